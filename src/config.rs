@@ -1,0 +1,154 @@
+//! Config files: TOML documents deserialised into plain serde structs (unknown keys are
+//! errors), range-checked with messages that name the file and the key, and copied next to
+//! every output they produced.
+
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+use serde::de::DeserializeOwned;
+
+use crate::error::{Result, XylemError};
+use crate::io::write_bytes_atomic;
+
+/// Reads and parses a TOML file into `T`. Parse errors (syntax, unknown key, wrong type)
+/// carry the parser's message, which names the key and the line.
+pub fn load_toml<T: DeserializeOwned>(path: &Path) -> Result<T> {
+    let text = std::fs::read_to_string(path).map_err(|e| XylemError::io(path, e))?;
+    parse_toml(&text, path)
+}
+
+/// Parses TOML text; `origin` names the source in error messages.
+pub fn parse_toml<T: DeserializeOwned>(text: &str, origin: &Path) -> Result<T> {
+    toml::from_str(text).map_err(|e| XylemError::ConfigParse {
+        path: origin.to_path_buf(),
+        message: e.to_string().trim_end().to_string(),
+    })
+}
+
+/// Serialises a config to TOML text.
+pub fn to_toml<T: Serialize>(value: &T) -> Result<String> {
+    toml::to_string(value).map_err(|e| XylemError::input("config serialisation", e.to_string()))
+}
+
+/// Writes the config actually used (all defaults filled in) next to an output, with a header
+/// naming where it came from, so the output can be reproduced.
+pub fn write_config_copy<T: Serialize>(path: &Path, value: &T, source: &str) -> Result<()> {
+    let body = to_toml(value)?;
+    let text = format!(
+        "# Config used by xylem {} (from {source}).\n# Re-run with this file to reproduce the output.\n\n{body}",
+        env!("CARGO_PKG_VERSION")
+    );
+    write_bytes_atomic(path, text.as_bytes())
+}
+
+/// Range checks with messages naming the file and the full key (e.g. `growth.years_per_unit`).
+pub struct Checker {
+    path: PathBuf,
+    prefix: String,
+}
+
+impl Checker {
+    pub fn new(path: &Path) -> Self {
+        Self {
+            path: path.to_path_buf(),
+            prefix: String::new(),
+        }
+    }
+
+    /// A checker for a nested table: keys are reported as `prefix.key`.
+    pub fn nested(&self, prefix: &str) -> Self {
+        Self {
+            path: self.path.clone(),
+            prefix: self.key(prefix),
+        }
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    fn key(&self, key: &str) -> String {
+        if self.prefix.is_empty() {
+            key.to_string()
+        } else {
+            format!("{}.{key}", self.prefix)
+        }
+    }
+
+    /// An error about `key`.
+    pub fn error(&self, key: &str, message: impl Into<String>) -> XylemError {
+        XylemError::ConfigValue {
+            path: self.path.clone(),
+            key: self.key(key),
+            message: message.into(),
+        }
+    }
+
+    /// `value` must be finite and within [lo, hi].
+    pub fn range(&self, key: &str, value: f32, lo: f32, hi: f32, meaning: &str) -> Result<()> {
+        if value.is_finite() && value >= lo && value <= hi {
+            Ok(())
+        } else {
+            Err(self.error(
+                key,
+                format!("= {value}: expected {meaning} in [{lo}, {hi}]"),
+            ))
+        }
+    }
+
+    /// `value` must be finite and > 0 (and at most `hi`).
+    pub fn positive(&self, key: &str, value: f32, hi: f32, meaning: &str) -> Result<()> {
+        if value.is_finite() && value > 0.0 && value <= hi {
+            Ok(())
+        } else {
+            Err(self.error(
+                key,
+                format!("= {value}: expected {meaning}, a number > 0 and <= {hi}"),
+            ))
+        }
+    }
+
+    /// All components finite and within [-bound, bound].
+    pub fn vector(&self, key: &str, v: [f32; 3], bound: f32, meaning: &str) -> Result<()> {
+        if v.iter().all(|x| x.is_finite() && x.abs() <= bound) {
+            Ok(())
+        } else {
+            Err(self.error(
+                key,
+                format!("= {v:?}: expected {meaning}, three finite numbers within +-{bound}"),
+            ))
+        }
+    }
+
+    /// A direction: finite, not (nearly) zero.
+    pub fn direction(&self, key: &str, v: [f32; 3]) -> Result<()> {
+        let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        if v.iter().all(|x| x.is_finite()) && len > 1e-6 {
+            Ok(())
+        } else {
+            Err(self.error(
+                key,
+                format!("= {v:?}: expected a direction [x, y, z], finite and not zero (need not be normalised)"),
+            ))
+        }
+    }
+
+    /// An integer count within [lo, hi].
+    pub fn count(
+        &self,
+        key: &str,
+        value: usize,
+        lo: usize,
+        hi: usize,
+        meaning: &str,
+    ) -> Result<()> {
+        if (lo..=hi).contains(&value) {
+            Ok(())
+        } else {
+            Err(self.error(
+                key,
+                format!("= {value}: expected {meaning}, an integer in [{lo}, {hi}]"),
+            ))
+        }
+    }
+}

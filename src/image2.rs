@@ -1,0 +1,195 @@
+//! A small float image: row-major `[H, W, C]`, values nominally in [0, 1].
+//!
+//! Slices of solid textures, face photos and ring images all travel as `Image2`; conversion
+//! to 8-bit happens only when a PNG is written (`io::png`).
+
+use crate::error::{Result, XylemError};
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Image2 {
+    pub width: usize,
+    pub height: usize,
+    pub channels: usize,
+    /// `[H, W, C]`, row-major.
+    pub data: Vec<f32>,
+}
+
+impl Image2 {
+    /// An image filled with `value`.
+    pub fn filled(width: usize, height: usize, channels: usize, value: f32) -> Self {
+        Self {
+            width,
+            height,
+            channels,
+            data: vec![value; width * height * channels],
+        }
+    }
+
+    /// Wraps existing `[H, W, C]` data, checking its length.
+    pub fn from_data(width: usize, height: usize, channels: usize, data: Vec<f32>) -> Result<Self> {
+        if data.len() != width * height * channels {
+            return Err(XylemError::input(
+                "image data",
+                format!(
+                    "{} values for a {width}x{height}x{channels} image (expected {})",
+                    data.len(),
+                    width * height * channels
+                ),
+            ));
+        }
+        Ok(Self {
+            width,
+            height,
+            channels,
+            data,
+        })
+    }
+
+    fn offset(&self, row: usize, col: usize) -> usize {
+        (row * self.width + col) * self.channels
+    }
+
+    /// The channel values of one pixel.
+    pub fn pixel(&self, row: usize, col: usize) -> &[f32] {
+        let o = self.offset(row, col);
+        &self.data[o..o + self.channels]
+    }
+
+    pub fn pixel_mut(&mut self, row: usize, col: usize) -> &mut [f32] {
+        let o = self.offset(row, col);
+        let c = self.channels;
+        &mut self.data[o..o + c]
+    }
+
+    pub fn get(&self, row: usize, col: usize, channel: usize) -> f32 {
+        self.data[self.offset(row, col) + channel]
+    }
+
+    /// Bilinear lookup at continuous pixel coordinates (pixel centres at integers), clamped at
+    /// the border.
+    pub fn bilinear(&self, row: f32, col: f32, channel: usize) -> f32 {
+        let r = row.clamp(0.0, (self.height - 1) as f32);
+        let c = col.clamp(0.0, (self.width - 1) as f32);
+        let (r0, c0) = (r.floor() as usize, c.floor() as usize);
+        let (r1, c1) = ((r0 + 1).min(self.height - 1), (c0 + 1).min(self.width - 1));
+        let (fr, fc) = (r - r0 as f32, c - c0 as f32);
+        let top = self.get(r0, c0, channel) * (1.0 - fc) + self.get(r0, c1, channel) * fc;
+        let bottom = self.get(r1, c0, channel) * (1.0 - fc) + self.get(r1, c1, channel) * fc;
+        top * (1.0 - fr) + bottom * fr
+    }
+
+    /// One channel as a single-channel image.
+    pub fn channel(&self, channel: usize) -> Image2 {
+        let data = self
+            .data
+            .iter()
+            .skip(channel)
+            .step_by(self.channels)
+            .copied()
+            .collect();
+        Image2 {
+            width: self.width,
+            height: self.height,
+            channels: 1,
+            data,
+        }
+    }
+
+    /// Rec. 709 luminance of an RGB image (a grey image is returned as is).
+    pub fn luminance(&self) -> Image2 {
+        if self.channels < 3 {
+            return self.channel(0);
+        }
+        let data = self
+            .data
+            .chunks_exact(self.channels)
+            .map(|p| 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2])
+            .collect();
+        Image2 {
+            width: self.width,
+            height: self.height,
+            channels: 1,
+            data,
+        }
+    }
+
+    /// The image with `channels` channels: grey is repeated, extra channels are dropped.
+    pub fn with_channels(&self, channels: usize) -> Image2 {
+        if channels == self.channels {
+            return self.clone();
+        }
+        let mut out = Image2::filled(self.width, self.height, channels, 1.0);
+        for (dst, src) in out
+            .data
+            .chunks_exact_mut(channels)
+            .zip(self.data.chunks_exact(self.channels))
+        {
+            for (c, d) in dst.iter_mut().enumerate() {
+                *d = if self.channels == 1 {
+                    src[0]
+                } else {
+                    src[c.min(self.channels - 1)]
+                };
+            }
+        }
+        out
+    }
+
+    /// Copies `src` into this image with its top-left corner at (row, col); both must have the
+    /// same channel count. Parts falling outside are clipped.
+    pub fn blit(&mut self, src: &Image2, row: usize, col: usize) {
+        assert_eq!(
+            self.channels, src.channels,
+            "blit needs equal channel counts"
+        );
+        for r in 0..src.height.min(self.height.saturating_sub(row)) {
+            let w = src.width.min(self.width.saturating_sub(col));
+            let d = self.offset(row + r, col);
+            let s = src.offset(r, 0);
+            self.data[d..d + w * self.channels]
+                .copy_from_slice(&src.data[s..s + w * self.channels]);
+        }
+    }
+
+    /// Images placed side by side (left to right) with `gap` pixels of `background` between.
+    pub fn hstack(images: &[&Image2], gap: usize, background: f32) -> Image2 {
+        let channels = images.iter().map(|i| i.channels).max().unwrap_or(1);
+        let height = images.iter().map(|i| i.height).max().unwrap_or(0);
+        let width =
+            images.iter().map(|i| i.width).sum::<usize>() + gap * images.len().saturating_sub(1);
+        let mut out = Image2::filled(width, height, channels, background);
+        let mut col = 0;
+        for img in images {
+            out.blit(&img.with_channels(channels), 0, col);
+            col += img.width + gap;
+        }
+        out
+    }
+
+    /// Images placed one below the other with `gap` pixels of `background` between.
+    pub fn vstack(images: &[&Image2], gap: usize, background: f32) -> Image2 {
+        let channels = images.iter().map(|i| i.channels).max().unwrap_or(1);
+        let width = images.iter().map(|i| i.width).max().unwrap_or(0);
+        let height =
+            images.iter().map(|i| i.height).sum::<usize>() + gap * images.len().saturating_sub(1);
+        let mut out = Image2::filled(width, height, channels, background);
+        let mut row = 0;
+        for img in images {
+            out.blit(&img.with_channels(channels), row, 0);
+            row += img.height + gap;
+        }
+        out
+    }
+
+    /// Mean of each channel.
+    pub fn channel_means(&self) -> Vec<f32> {
+        let n = (self.width * self.height).max(1) as f64;
+        let mut sums = vec![0f64; self.channels];
+        for px in self.data.chunks_exact(self.channels) {
+            for (s, v) in sums.iter_mut().zip(px) {
+                *s += *v as f64;
+            }
+        }
+        sums.into_iter().map(|s| (s / n) as f32).collect()
+    }
+}

@@ -1,0 +1,10 @@
+//! Files: PNG and NPY images and volumes, atomic writes, output folders.
+
+pub mod atomic;
+pub mod npy;
+pub mod output_dir;
+pub mod png;
+
+pub use atomic::{write_atomic, write_bytes_atomic};
+pub use output_dir::{OutputDir, check_new_file};
+pub use png::{load_gray, load_rgb, save_png};

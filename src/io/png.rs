@@ -1,0 +1,96 @@
+//! PNG reading and writing for [`Image2`]. Values are clamped to [0, 1] and quantised to
+//! 8 bits on write; 1 channel is written as grey, 3 as RGB, 4 as RGBA.
+
+use std::io::Cursor;
+use std::path::Path;
+
+use image::{DynamicImage, ImageFormat};
+
+use super::atomic::write_bytes_atomic;
+use crate::error::{Result, XylemError};
+use crate::image2::Image2;
+
+fn to_u8(v: f32) -> u8 {
+    (v.clamp(0.0, 1.0) * 255.0).round() as u8
+}
+
+/// Encodes an image as PNG bytes.
+pub fn encode_png(img: &Image2) -> Result<Vec<u8>> {
+    let bytes: Vec<u8> = img.data.iter().map(|&v| to_u8(v)).collect();
+    let (w, h) = (img.width as u32, img.height as u32);
+    let dynamic = match img.channels {
+        1 => image::GrayImage::from_raw(w, h, bytes).map(DynamicImage::ImageLuma8),
+        3 => image::RgbImage::from_raw(w, h, bytes).map(DynamicImage::ImageRgb8),
+        4 => image::RgbaImage::from_raw(w, h, bytes).map(DynamicImage::ImageRgba8),
+        c => {
+            return Err(XylemError::input(
+                "PNG encoding",
+                format!("{c} channels; PNG output takes 1 (grey), 3 (RGB) or 4 (RGBA)"),
+            ));
+        }
+    }
+    .ok_or_else(|| {
+        XylemError::input(
+            "PNG encoding",
+            "image buffer size does not match its dimensions",
+        )
+    })?;
+    let mut out = Cursor::new(Vec::new());
+    dynamic
+        .write_to(&mut out, ImageFormat::Png)
+        .map_err(|e| XylemError::input("PNG encoding", e.to_string()))?;
+    Ok(out.into_inner())
+}
+
+/// Writes a PNG atomically (temporary file, then rename).
+pub fn save_png(img: &Image2, path: &Path) -> Result<()> {
+    write_bytes_atomic(path, &encode_png(img)?)
+}
+
+fn open(path: &Path) -> Result<DynamicImage> {
+    if !path.exists() {
+        return Err(XylemError::image(path, "file not found"));
+    }
+    image::open(path)
+        .map_err(|e| XylemError::image(path, format!("cannot decode as an image: {e}")))
+}
+
+/// Reads a PNG as RGB in [0, 1] (grey images are expanded).
+pub fn load_rgb(path: &Path) -> Result<Image2> {
+    let img = open(path)?.to_rgb8();
+    let (w, h) = img.dimensions();
+    let data = img
+        .into_raw()
+        .into_iter()
+        .map(|b| b as f32 / 255.0)
+        .collect();
+    Image2::from_data(w as usize, h as usize, 3, data)
+}
+
+/// Reads a PNG as one grey channel in [0, 1] (colour images are converted to luma).
+pub fn load_gray(path: &Path) -> Result<Image2> {
+    let img = open(path)?.to_luma8();
+    let (w, h) = img.dimensions();
+    let data = img
+        .into_raw()
+        .into_iter()
+        .map(|b| b as f32 / 255.0)
+        .collect();
+    Image2::from_data(w as usize, h as usize, 1, data)
+}
+
+/// Checks that an image is square with side `n` (or any square size if `n` is `None`).
+pub fn require_square(img: &Image2, path: &Path, n: Option<usize>) -> Result<()> {
+    let ok = img.width == img.height && n.is_none_or(|n| img.width == n);
+    if ok {
+        return Ok(());
+    }
+    let expected = match n {
+        Some(n) => format!("{n}x{n}"),
+        None => "a square image".into(),
+    };
+    Err(XylemError::image(
+        path,
+        format!("is {}x{}; expected {expected}", img.width, img.height),
+    ))
+}

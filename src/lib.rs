@@ -1,0 +1,39 @@
+//! xylem: solid (volumetric) wood textures from the six photographed faces of a wooden cube.
+//!
+//! The modules follow the pipeline (see `docs/DESIGN.md` and the README's picture):
+//!
+//! - [`frame`]: the fixed cube conventions: faces A-F, pixel and voxel centres, the unfolded
+//!   cross, the validation cuts and arbitrary planes.
+//! - [`texture`]: the one solid-texture interface every source of wood implements.
+//! - [`volume`]: dense voxel volumes with trilinear lookup (a solid texture too).
+//! - [`field`]: the procedural growth field G(p) (pith axis, rate grid, knots) and the ring
+//!   localisation image I(G).
+//! - [`slice`]: sampling any solid texture on faces, cuts and planes; the unfolded cross.
+//! - [`image2`]: the float image type slices are returned in.
+//! - [`outputs`]: the standard set of faces, cuts and unfolded cross written for a texture.
+//! - [`io`]: PNG, NPY and TOML files, written atomically; output folders.
+//! - [`config`]: shared config loading and range checks.
+//! - [`sample`]: sample folders in the Mokume layout (photos, ring images, knot markers).
+//! - [`rng`]: seeded, hash-based randomness (same seed, same output).
+//! - [`device`]: choosing burn's CPU device (flex or ndarray) at run time.
+
+pub mod config;
+pub mod device;
+pub mod error;
+pub mod field;
+pub mod frame;
+pub mod image2;
+pub mod io;
+pub mod outputs;
+pub mod presets;
+pub mod rng;
+pub mod sample;
+pub mod slice;
+pub mod texture;
+pub mod volume;
+
+pub use error::{Result, XylemError};
+pub use frame::{Face, Plane};
+pub use image2::Image2;
+pub use texture::SolidTexture;
+pub use volume::Volume;

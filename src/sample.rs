@@ -1,0 +1,243 @@
+//! Sample folders in the Mokume layout: the six face photos `A_col.png`..`F_col.png`, the
+//! ring localisation images `X_arl-unet.png` (U-Net output, real data) or `X_arl.png` (exact
+//! I(G), synthetic samples), and optional knot markers `X_knot.png`.
+//!
+//! Knot markers (as in the Mokume H11 files): a white (255) grey image, same size as the
+//! photos, with one darker pixel at each knot centre on that face. The grey value identifies
+//! the knot: markers with the same value on two faces are the entry and exit of one knot
+//! (H11 marks its single knot with 186 on faces C and F). `xylem sample` writes 186 - 8 i for
+//! knot i.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use glam::Vec3;
+
+use crate::error::{Result, XylemError};
+use crate::frame::{Face, pixel_centre};
+use crate::image2::Image2;
+use crate::io::{load_gray, load_rgb};
+
+/// Grey value of knot `index`'s markers in files xylem writes.
+pub fn marker_value(index: usize) -> u8 {
+    186u8.saturating_sub(8 * index as u8)
+}
+
+/// One marked knot centre on a face.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct KnotMarker {
+    pub face: Face,
+    /// The marker's grey value (knot identity).
+    pub value: u8,
+    /// Pixel coordinates of the marker centre.
+    pub row: f32,
+    pub col: f32,
+    /// The 3D point on the face.
+    pub point: Vec3,
+}
+
+/// The files of a sample folder that were found and loaded.
+#[derive(Clone, Debug)]
+pub struct Sample {
+    pub dir: PathBuf,
+    /// Face side in pixels (all images share it).
+    pub size: usize,
+    /// Which faces are used (all six unless a subset was asked for).
+    pub faces: Vec<Face>,
+    /// RGB photos, indexed by `Face::index`; `None` for faces not loaded or absent.
+    pub photos: [Option<Image2>; 6],
+    /// Ring localisation images (grey), indexed by `Face::index`.
+    pub arl: [Option<Image2>; 6],
+    /// Knot markers of the used faces.
+    pub knot_markers: Vec<KnotMarker>,
+}
+
+/// Which images a caller needs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Needs {
+    pub photos: bool,
+    pub arl: bool,
+}
+
+impl Sample {
+    /// Loads the used faces of a sample folder. Missing required files, sizes that differ
+    /// between files, and non-square images are errors naming the file.
+    pub fn load(dir: &Path, faces: &[Face], needs: Needs) -> Result<Self> {
+        if !dir.is_dir() {
+            return Err(XylemError::sample(
+                dir,
+                "sample folder not found (expected A_col.png .. F_col.png, X_arl-unet.png or X_arl.png)",
+            ));
+        }
+        if faces.is_empty() {
+            return Err(XylemError::sample(dir, "no faces selected"));
+        }
+        let mut sample = Sample {
+            dir: dir.to_path_buf(),
+            size: 0,
+            faces: faces.to_vec(),
+            photos: Default::default(),
+            arl: Default::default(),
+            knot_markers: Vec::new(),
+        };
+        for &face in faces {
+            if needs.photos {
+                let path = dir.join(format!("{face}_col.png"));
+                let img = require(&path, load_rgb)?;
+                sample.check_size(&img, &path)?;
+                sample.photos[face.index()] = Some(img);
+            }
+            if needs.arl {
+                let path = arl_path(dir, face)?;
+                let img = load_gray(&path)?;
+                sample.check_size(&img, &path)?;
+                sample.arl[face.index()] = Some(img);
+            }
+            let knot = dir.join(format!("{face}_knot.png"));
+            if knot.is_file() {
+                let img = load_gray(&knot)?;
+                sample.check_size(&img, &knot)?;
+                sample.knot_markers.extend(find_markers(&img, face));
+            }
+        }
+        Ok(sample)
+    }
+
+    fn check_size(&mut self, img: &Image2, path: &Path) -> Result<()> {
+        if img.width != img.height {
+            return Err(XylemError::image(
+                path,
+                format!(
+                    "is {}x{}; face images must be square",
+                    img.width, img.height
+                ),
+            ));
+        }
+        if self.size == 0 {
+            self.size = img.width;
+        } else if img.width != self.size {
+            return Err(XylemError::image(
+                path,
+                format!(
+                    "is {}x{}, but the sample's other images are {}x{}",
+                    img.width, img.height, self.size, self.size
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    pub fn photo(&self, face: Face) -> Option<&Image2> {
+        self.photos[face.index()].as_ref()
+    }
+
+    pub fn ring_image(&self, face: Face) -> Option<&Image2> {
+        self.arl[face.index()].as_ref()
+    }
+
+    /// Markers grouped by knot (grey value), in increasing value order.
+    pub fn knots(&self) -> Vec<Vec<KnotMarker>> {
+        let mut by_value: BTreeMap<u8, Vec<KnotMarker>> = BTreeMap::new();
+        for m in &self.knot_markers {
+            by_value.entry(m.value).or_default().push(*m);
+        }
+        by_value.into_values().collect()
+    }
+}
+
+fn require(path: &Path, load: fn(&Path) -> Result<Image2>) -> Result<Image2> {
+    if !path.is_file() {
+        return Err(XylemError::sample(path, "missing face image"));
+    }
+    load(path)
+}
+
+/// `X_arl-unet.png` if present (real data), else `X_arl.png` (synthetic samples).
+fn arl_path(dir: &Path, face: Face) -> Result<PathBuf> {
+    let unet = dir.join(format!("{face}_arl-unet.png"));
+    if unet.is_file() {
+        return Ok(unet);
+    }
+    let exact = dir.join(format!("{face}_arl.png"));
+    if exact.is_file() {
+        return Ok(exact);
+    }
+    Err(XylemError::sample(
+        unet,
+        format!(
+            "missing ring localisation image (neither {face}_arl-unet.png nor {face}_arl.png exists)"
+        ),
+    ))
+}
+
+/// Connected groups of non-white pixels of equal value, each reduced to its centroid.
+fn find_markers(img: &Image2, face: Face) -> Vec<KnotMarker> {
+    let n = img.width;
+    let value_at = |r: usize, c: usize| (img.get(r, c, 0) * 255.0).round() as u8;
+    let mut seen = vec![false; n * n];
+    let mut markers = Vec::new();
+    for r0 in 0..n {
+        for c0 in 0..n {
+            let v = value_at(r0, c0);
+            if v >= 250 || seen[r0 * n + c0] {
+                continue;
+            }
+            let (mut sum_r, mut sum_c, mut count) = (0.0f32, 0.0f32, 0.0f32);
+            let mut stack = vec![(r0, c0)];
+            seen[r0 * n + c0] = true;
+            while let Some((r, c)) = stack.pop() {
+                sum_r += r as f32;
+                sum_c += c as f32;
+                count += 1.0;
+                for (dr, dc) in [(-1i32, 0i32), (1, 0), (0, -1), (0, 1)] {
+                    let (rr, cc) = (r as i32 + dr, c as i32 + dc);
+                    if rr < 0 || cc < 0 || rr >= n as i32 || cc >= n as i32 {
+                        continue;
+                    }
+                    let (rr, cc) = (rr as usize, cc as usize);
+                    if !seen[rr * n + cc] && value_at(rr, cc) == v {
+                        seen[rr * n + cc] = true;
+                        stack.push((rr, cc));
+                    }
+                }
+            }
+            let (row, col) = (sum_r / count, sum_c / count);
+            let point = face.point(
+                pixel_centre(0, n) + col / n as f32,
+                pixel_centre(0, n) + row / n as f32,
+            );
+            markers.push(KnotMarker {
+                face,
+                value: v,
+                row,
+                col,
+                point,
+            });
+        }
+    }
+    markers
+}
+
+/// Parses a face list such as "A,B,C,D,E" (`--faces`).
+pub fn parse_faces(list: &str) -> Result<Vec<Face>> {
+    let mut faces = Vec::new();
+    for part in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        let face = Face::parse(part).ok_or_else(|| {
+            XylemError::input(
+                format!("--faces {list:?}"),
+                format!("{part:?} is not a face; expected letters A..F separated by commas"),
+            )
+        })?;
+        if !faces.contains(&face) {
+            faces.push(face);
+        }
+    }
+    if faces.is_empty() {
+        return Err(XylemError::input(
+            format!("--faces {list:?}"),
+            "no faces given; expected e.g. A,B,C,D,E",
+        ));
+    }
+    faces.sort();
+    Ok(faces)
+}

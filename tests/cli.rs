@@ -1,0 +1,149 @@
+//! The `xylem` binary end to end on tiny sizes: outputs, config copies, errors.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn xylem() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_xylem"))
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("xylem-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+fn repo(path: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
+}
+
+fn run_ok(cmd: &mut Command) -> String {
+    let out = cmd.output().expect("run xylem");
+    assert!(
+        out.status.success(),
+        "xylem failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+fn run_err(cmd: &mut Command) -> String {
+    let out = cmd.output().expect("run xylem");
+    assert!(!out.status.success(), "xylem should have failed");
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+#[test]
+fn field_writes_faces_cuts_cross_and_config() {
+    let out = scratch("field");
+    run_ok(
+        xylem()
+            .args(["field", "--size", "16", "--out"])
+            .arg(&out)
+            .arg("--config")
+            .arg(repo("configs/fields/minimal.toml")),
+    );
+    for f in ["A", "B", "C", "D", "E", "F"] {
+        let img = image::open(out.join(format!("faces/{f}.png"))).unwrap();
+        assert_eq!((img.width(), img.height()), (16, 16));
+    }
+    for f in ["cuts/cut1.png", "cuts/cut2.png"] {
+        assert!(out.join(f).is_file(), "{f}");
+    }
+    let cross = image::open(out.join("unfolded.png")).unwrap();
+    assert_eq!((cross.width(), cross.height()), (64, 48));
+    // The copied config reproduces the field.
+    let copy = xylem::field::FieldConfig::load(&out.join("config.toml")).unwrap();
+    let original = xylem::field::FieldConfig::load(&repo("configs/fields/minimal.toml")).unwrap();
+    assert_eq!(copy, original);
+    // Re-running into its own output folder is allowed (files are replaced atomically).
+    run_ok(
+        xylem()
+            .args(["field", "--preset", "knots", "--size", "8", "--out"])
+            .arg(&out),
+    );
+    std::fs::remove_dir_all(&out).unwrap();
+}
+
+#[test]
+fn slice_writes_one_image_and_refuses_to_overwrite() {
+    let dir = scratch("slice");
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("cut.png");
+    let field = repo("configs/fields/knot_dead.toml");
+    let args = |plane: &str| {
+        let mut c = xylem();
+        c.args(["slice", "--plane", plane, "--size", "12", "--field"])
+            .arg(&field)
+            .arg("--out")
+            .arg(&png);
+        c
+    };
+    run_ok(&mut args("cut2"));
+    assert_eq!(image::open(&png).unwrap().width(), 12);
+    let err = run_err(&mut args("-0.5,0,0.5;1,0,0;0,0,-1"));
+    assert!(err.contains("--force"), "{err}");
+    run_ok(args("-0.5,0,0.5;1,0,0;0,0,-1").arg("--force"));
+    let err = run_err(&mut args("diagonal"));
+    assert!(err.contains("cut1"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn bad_inputs_give_clear_errors() {
+    let dir = scratch("bad");
+    std::fs::create_dir_all(&dir).unwrap();
+    let cfg = dir.join("bad.toml");
+    std::fs::write(&cfg, "[pith]\norigin = [0.0, 0.0, -2.5]\ndirection = [0.0, 1.0, 0.1]\n[growth]\nyears_per_unit = 0.0\n").unwrap();
+    let err = run_err(
+        xylem()
+            .args(["field", "--size", "8", "--out"])
+            .arg(dir.join("o"))
+            .arg("--config")
+            .arg(&cfg),
+    );
+    assert!(
+        err.contains("bad.toml") && err.contains("growth.years_per_unit"),
+        "{err}"
+    );
+
+    let err = run_err(
+        xylem()
+            .args(["field", "--size", "8", "--out"])
+            .arg(dir.join("o2"))
+            .arg("--config")
+            .arg(dir.join("missing.toml")),
+    );
+    assert!(err.contains("missing.toml"), "{err}");
+
+    // A folder with the user's files is never written into.
+    let user = dir.join("user");
+    std::fs::create_dir_all(&user).unwrap();
+    std::fs::write(user.join("notes.txt"), "mine").unwrap();
+    let err = run_err(
+        xylem()
+            .args(["field", "--preset", "far", "--size", "8", "--out"])
+            .arg(&user),
+    );
+    assert!(err.contains("not written by xylem"), "{err}");
+    assert_eq!(std::fs::read_dir(&user).unwrap().count(), 1);
+
+    let err = run_err(
+        xylem()
+            .args(["field", "--preset", "oak", "--size", "8", "--out"])
+            .arg(dir.join("o3")),
+    );
+    assert!(err.contains("knot_alive"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn help_shows_examples() {
+    for cmd in ["field", "slice", "demo"] {
+        let help = run_ok(xylem().args([cmd, "--help"]));
+        assert!(
+            help.contains("Example"),
+            "{cmd} --help lacks examples:\n{help}"
+        );
+    }
+}

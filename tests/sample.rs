@@ -1,0 +1,78 @@
+//! Sample folders: the real Mokume layout loads, knot markers are found, bad folders give
+//! errors naming the file.
+
+mod common;
+
+use xylem::frame::Face;
+use xylem::sample::{Needs, Sample, parse_faces};
+
+const ALL: Needs = Needs {
+    photos: true,
+    arl: true,
+};
+
+#[test]
+fn real_samples_load_with_knot_markers() {
+    let Some(dir) = common::mokume_dir() else {
+        return;
+    };
+    let cn03 = Sample::load(&dir.join("CN03"), &Face::ALL, ALL).unwrap();
+    assert_eq!(cn03.size, 256);
+    assert!(cn03.knot_markers.is_empty());
+    let h11 = Sample::load(&dir.join("H11"), &Face::ALL, ALL).unwrap();
+    let knots = h11.knots();
+    assert_eq!(knots.len(), 1, "H11 has one knot marked on two faces");
+    let faces: Vec<Face> = knots[0].iter().map(|m| m.face).collect();
+    assert_eq!(faces, vec![Face::C, Face::F]);
+    let c = knots[0][0];
+    assert_eq!((c.row, c.col), (184.0, 71.0));
+    assert!(
+        (c.point.x + 0.5).abs() < 1e-6,
+        "a marker on C lies on x = -0.5"
+    );
+}
+
+#[test]
+fn broken_sample_folders_are_clear_errors() {
+    let Some(dir) = common::mokume_dir() else {
+        return;
+    };
+    let tmp = common::scratch("sample");
+    std::fs::create_dir_all(&tmp).unwrap();
+    for f in Face::ALL {
+        for kind in ["col", "arl-unet"] {
+            let name = format!("{f}_{kind}.png");
+            std::fs::copy(dir.join("CN03").join(&name), tmp.join(&name)).unwrap();
+        }
+    }
+    std::fs::remove_file(tmp.join("D_col.png")).unwrap();
+    let err = Sample::load(&tmp, &Face::ALL, ALL).unwrap_err().to_string();
+    assert!(
+        err.contains("D_col.png") && err.contains("missing"),
+        "{err}"
+    );
+    // A subset without D loads.
+    Sample::load(&tmp, &parse_faces("A,B,C,E,F").unwrap(), ALL).unwrap();
+    // An ARL image of another size.
+    let small = image::imageops::resize(
+        &image::open(tmp.join("E_arl-unet.png")).unwrap().to_luma8(),
+        100,
+        100,
+        image::imageops::FilterType::Triangle,
+    );
+    small.save(tmp.join("E_arl-unet.png")).unwrap();
+    let err = Sample::load(&tmp, &parse_faces("A,E").unwrap(), ALL)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("E_arl-unet.png") && err.contains("100x100") && err.contains("256x256"),
+        "{err}"
+    );
+    assert!(
+        parse_faces("A,G")
+            .unwrap_err()
+            .to_string()
+            .contains("\"G\"")
+    );
+    std::fs::remove_dir_all(&tmp).unwrap();
+}
