@@ -11,6 +11,8 @@
 //! - [`slice`]: sampling any solid texture on faces, cuts and planes; the unfolded cross.
 //! - [`image2`]: the float image type slices are returned in.
 //! - [`outputs`]: the standard set of faces, cuts and unfolded cross written for a texture.
+//! - [`render`]: lit renders of any solid texture on the cube or on a carved mesh.
+//! - [`export`]: volumes for other tools (Mitsuba `.vol`, NRRD, `.npy`).
 //! - [`io`]: PNG, NPY and TOML files, written atomically; output folders.
 //! - [`config`]: shared config loading and range checks.
 //! - [`sample`]: sample folders in the Mokume layout (photos, ring images, knot markers).
@@ -20,12 +22,14 @@
 pub mod config;
 pub mod device;
 pub mod error;
+pub mod export;
 pub mod field;
 pub mod frame;
 pub mod image2;
 pub mod io;
 pub mod outputs;
 pub mod presets;
+pub mod render;
 pub mod rng;
 pub mod sample;
 pub mod slice;

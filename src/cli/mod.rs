@@ -1,9 +1,13 @@
 //! Sub-commands of `xylem`, one file each.
 
 mod demo_cmd;
+mod export_cmd;
 mod field_cmd;
+mod mesh_cmd;
 mod presets;
+mod render_cmd;
 mod slice_cmd;
+mod texture_source;
 
 use clap::{Parser, Subcommand};
 
@@ -21,14 +25,20 @@ pub struct Cli {
 #[derive(Subcommand, Debug)]
 pub enum Command {
     Demo(demo_cmd::DemoArgs),
+    Export(export_cmd::ExportArgs),
     Field(field_cmd::FieldArgs),
+    MeshBowl(mesh_cmd::MeshBowlArgs),
+    Render(render_cmd::RenderArgs),
     Slice(slice_cmd::SliceArgs),
 }
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Demo(a) => demo_cmd::run(a),
+        Command::Export(a) => export_cmd::run(a),
         Command::Field(a) => field_cmd::run(a),
+        Command::MeshBowl(a) => mesh_cmd::run(a),
+        Command::Render(a) => render_cmd::run(a),
         Command::Slice(a) => slice_cmd::run(a),
     }
 }

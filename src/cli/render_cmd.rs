@@ -1,0 +1,87 @@
+//! `xylem render`: a lit image of a solid texture on the cube or on a carved mesh.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result, bail};
+use clap::{Args, ValueEnum};
+use xylem::io::{check_new_file, save_png};
+use xylem::render::{RenderConfig, Shape, TriMesh, render, turntable};
+
+use super::texture_source::TextureSource;
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum View {
+    /// One view from the configured camera.
+    Cube,
+    /// Several views orbiting around the vertical (pith) axis, side by side.
+    Turntable,
+}
+
+/// Render a solid texture: the cube seen from a corner, or an object carved from the wood.
+#[derive(Args, Debug)]
+#[command(after_help = "Examples:
+  xylem render --volume out/synth/volume.npy --size 800x800 --out cube.png
+  xylem render --volume out/synth/volume.npy --mesh assets/bowl.obj --out bowl.png
+  xylem render --field configs/fields/knots.toml --view turntable --size 300x300 --out strip.png
+
+The mesh is fitted into the cube and rotated inside the wood by [carve] in the render config
+(configs/render/default.toml is built in; pass --config to change camera, light, finish).")]
+pub struct RenderArgs {
+    #[command(flatten)]
+    pub source: TextureSource,
+    /// Carve this OBJ mesh from the wood instead of showing the cube.
+    #[arg(long, value_name = "M.obj")]
+    pub mesh: Option<PathBuf>,
+    #[arg(long, value_enum, default_value = "cube")]
+    pub view: View,
+    /// Image size WIDTHxHEIGHT (per view for the turntable).
+    #[arg(long, default_value = "800x800")]
+    pub size: String,
+    /// Render config (TOML); default: the built-in configs/render/default.toml.
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+    /// Output PNG.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Replace the output file if it exists.
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// Parses "WIDTHxHEIGHT".
+pub fn parse_size(s: &str) -> Result<(usize, usize)> {
+    let parsed = s
+        .split_once(['x', 'X'])
+        .and_then(|(w, h)| Some((w.trim().parse().ok()?, h.trim().parse().ok()?)));
+    match parsed {
+        Some((w, h)) if (1..=16384).contains(&w) && (1..=16384).contains(&h) => Ok((w, h)),
+        _ => bail!("--size {s:?}: expected WIDTHxHEIGHT with sides in 1..=16384, e.g. 800x800"),
+    }
+}
+
+pub fn run(args: RenderArgs) -> Result<()> {
+    check_new_file(&args.out, args.force)?;
+    let (width, height) = parse_size(&args.size)?;
+    let cfg = match &args.config {
+        Some(path) => RenderConfig::load(path)?,
+        None => RenderConfig::default_config(),
+    };
+    let (texture, what) = args.source.load()?;
+    let shape = match &args.mesh {
+        Some(path) => Shape::carved(&TriMesh::load_obj(path)?, &cfg.carve),
+        None => Shape::Cube,
+    };
+    let image = match args.view {
+        View::Cube => render(
+            texture.as_ref(),
+            &shape,
+            shape.camera(&cfg),
+            &cfg,
+            width,
+            height,
+        ),
+        View::Turntable => turntable(texture.as_ref(), &shape, &cfg, width, height),
+    };
+    save_png(&image, &args.out).with_context(|| format!("rendering {what}"))?;
+    Ok(())
+}

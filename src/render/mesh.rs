@@ -1,0 +1,197 @@
+//! Triangle meshes: loading OBJ files (`tobj`), placing them in the cube, ray intersection
+//! through a BVH.
+
+use std::path::Path;
+
+use glam::{Mat4, Vec3};
+
+use super::bvh::Bvh;
+use super::camera::Ray;
+use crate::error::{Result, XylemError};
+
+/// A triangle mesh with optional per-vertex normals.
+#[derive(Clone, Debug, Default)]
+pub struct TriMesh {
+    pub positions: Vec<Vec3>,
+    /// Per-vertex normals (same length as positions) or empty for flat shading.
+    pub normals: Vec<Vec3>,
+    /// Triangles as vertex index triples.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// A surface hit.
+#[derive(Clone, Copy, Debug)]
+pub struct Hit {
+    pub t: f32,
+    pub point: Vec3,
+    /// Unit shading normal facing the ray origin.
+    pub normal: Vec3,
+}
+
+impl TriMesh {
+    /// Loads an OBJ file (all its models merged; faces triangulated).
+    pub fn load_obj(path: &Path) -> Result<Self> {
+        if !path.is_file() {
+            return Err(XylemError::input(
+                path.display().to_string(),
+                "mesh file not found (expected an .obj file)",
+            ));
+        }
+        let options = tobj::LoadOptions {
+            triangulate: true,
+            single_index: true,
+            ..Default::default()
+        };
+        let (models, _) = tobj::load_obj(path, &options).map_err(|e| {
+            XylemError::input(
+                path.display().to_string(),
+                format!("cannot read as OBJ: {e}"),
+            )
+        })?;
+        let mut mesh = TriMesh::default();
+        let mut all_normals = true;
+        for model in &models {
+            let m = &model.mesh;
+            let base = mesh.positions.len() as u32;
+            let count = m.positions.len() / 3;
+            mesh.positions.extend(
+                m.positions
+                    .chunks_exact(3)
+                    .map(|p| Vec3::new(p[0], p[1], p[2])),
+            );
+            if m.normals.len() == m.positions.len() {
+                mesh.normals.extend(
+                    m.normals
+                        .chunks_exact(3)
+                        .map(|n| Vec3::new(n[0], n[1], n[2]).normalize_or_zero()),
+                );
+            } else {
+                all_normals = false;
+                mesh.normals.extend(std::iter::repeat_n(Vec3::ZERO, count));
+            }
+            mesh.triangles.extend(
+                m.indices
+                    .chunks_exact(3)
+                    .map(|t| [base + t[0], base + t[1], base + t[2]]),
+            );
+        }
+        if !all_normals {
+            mesh.normals.clear();
+        }
+        if mesh.triangles.is_empty() {
+            return Err(XylemError::input(
+                path.display().to_string(),
+                "OBJ file has no faces",
+            ));
+        }
+        Ok(mesh)
+    }
+
+    /// Axis-aligned bounds (min, max).
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        self.positions.iter().fold(
+            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        )
+    }
+
+    /// The uniform scale + translation that fits the mesh's bounding box centred inside the
+    /// cube with `margin` (cube units) to spare: the mesh-to-cube transform used to carve the
+    /// object from the wood.
+    pub fn fit_into_cube(&self, margin: f32) -> Mat4 {
+        let (lo, hi) = self.bounds();
+        let extent = (hi - lo).max_element().max(1e-12);
+        let scale = (1.0 - 2.0 * margin) / extent;
+        Mat4::from_scale(Vec3::splat(scale)) * Mat4::from_translation(-(lo + hi) * 0.5)
+    }
+
+    /// The mesh with every vertex transformed (normals by the inverse transpose).
+    pub fn transformed(&self, m: &Mat4) -> TriMesh {
+        let normal_matrix = m.inverse().transpose();
+        TriMesh {
+            positions: self
+                .positions
+                .iter()
+                .map(|p| m.transform_point3(*p))
+                .collect(),
+            normals: self
+                .normals
+                .iter()
+                .map(|n| normal_matrix.transform_vector3(*n).normalize_or_zero())
+                .collect(),
+            triangles: self.triangles.clone(),
+        }
+    }
+
+    pub fn triangle(&self, i: usize) -> [Vec3; 3] {
+        let [a, b, c] = self.triangles[i];
+        [
+            self.positions[a as usize],
+            self.positions[b as usize],
+            self.positions[c as usize],
+        ]
+    }
+
+    /// Writes a Wavefront OBJ with vertex normals.
+    pub fn to_obj_string(&self, comment: &str) -> String {
+        use std::fmt::Write;
+        let mut s = format!("# {comment}\n");
+        for p in &self.positions {
+            let _ = writeln!(s, "v {:.5} {:.5} {:.5}", p.x, p.y, p.z);
+        }
+        for n in &self.normals {
+            let _ = writeln!(s, "vn {:.4} {:.4} {:.4}", n.x, n.y, n.z);
+        }
+        for t in &self.triangles {
+            let [a, b, c] = t.map(|i| i + 1);
+            if self.normals.is_empty() {
+                let _ = writeln!(s, "f {a} {b} {c}");
+            } else {
+                let _ = writeln!(s, "f {a}//{a} {b}//{b} {c}//{c}");
+            }
+        }
+        s
+    }
+}
+
+/// A mesh ready for ray casting.
+pub struct MeshShape {
+    pub mesh: TriMesh,
+    bvh: Bvh,
+}
+
+impl MeshShape {
+    pub fn new(mesh: TriMesh) -> Self {
+        let bvh = Bvh::build(&mesh);
+        Self { mesh, bvh }
+    }
+
+    /// Nearest hit along the ray within (t_min, t_max).
+    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+        let (tri, t, u, v) = self.bvh.intersect(&self.mesh, ray, t_min, t_max)?;
+        let [a, b, c] = self.mesh.triangle(tri);
+        let geometric = (b - a).cross(c - a).normalize();
+        let mut normal = if self.mesh.normals.is_empty() {
+            geometric
+        } else {
+            let [ia, ib, ic] = self.mesh.triangles[tri];
+            let n = self.mesh.normals[ia as usize] * (1.0 - u - v)
+                + self.mesh.normals[ib as usize] * u
+                + self.mesh.normals[ic as usize] * v;
+            n.try_normalize().unwrap_or(geometric)
+        };
+        if normal.dot(ray.dir) > 0.0 {
+            normal = -normal;
+        }
+        Some(Hit {
+            t,
+            point: ray.origin + t * ray.dir,
+            normal,
+        })
+    }
+
+    /// Whether anything blocks the segment (for shadows).
+    pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        self.bvh.intersect(&self.mesh, ray, 1e-4, t_max).is_some()
+    }
+}

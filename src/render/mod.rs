@@ -1,0 +1,16 @@
+//! Rendering any solid texture: a lit cube seen from a corner, or an object carved from the
+//! wood (an OBJ mesh), with a perspective camera, key light + ambient, diffuse, clear-coat
+//! and fibre highlights, and stratified anti-aliasing. CPU, parallel over rows.
+
+pub mod bvh;
+pub mod camera;
+pub mod config;
+pub mod lathe;
+pub mod mesh;
+pub mod renderer;
+pub mod shading;
+
+pub use camera::{Camera, CameraConfig};
+pub use config::{CarveConfig, RenderConfig};
+pub use mesh::{MeshShape, TriMesh};
+pub use renderer::{Shape, render, turntable};
