@@ -3,6 +3,8 @@
 mod demo_cmd;
 mod field_cmd;
 mod presets;
+mod procedural_cmd;
+mod sample_cmd;
 mod slice_cmd;
 
 use clap::{Parser, Subcommand};
@@ -22,6 +24,8 @@ pub struct Cli {
 pub enum Command {
     Demo(demo_cmd::DemoArgs),
     Field(field_cmd::FieldArgs),
+    Procedural(procedural_cmd::ProceduralArgs),
+    Sample(sample_cmd::SampleArgs),
     Slice(slice_cmd::SliceArgs),
 }
 
@@ -29,6 +33,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Demo(a) => demo_cmd::run(a),
         Command::Field(a) => field_cmd::run(a),
+        Command::Procedural(a) => procedural_cmd::run(a),
+        Command::Sample(a) => sample_cmd::run(a),
         Command::Slice(a) => slice_cmd::run(a),
     }
 }
