@@ -15,14 +15,17 @@ use std::f32::consts::TAU;
 
 use glam::Vec3;
 
-use super::noise::hash_unit;
-use crate::rng::hash3;
+use super::noise::{floor, hash_units3, lattice_hash};
 
 #[derive(Clone, Copy, Debug)]
 pub struct CylinderCells {
     seed: u64,
     /// Cell size (cube units): radial, tangential, along the pith.
     pub size: Vec3,
+    /// 1 / size.x, 2 pi / size.y, 1 / size.z (the lookup runs per point and layer).
+    inv_radial: f32,
+    sectors_per_radius: f32,
+    inv_along: f32,
 }
 
 /// A point located in its cell: the cell's hash and the point's offsets from the cell's
@@ -44,13 +47,19 @@ pub struct CellPoint {
 
 impl CylinderCells {
     pub fn new(seed: u64, size: Vec3) -> Self {
-        Self { seed, size }
+        Self {
+            seed,
+            size,
+            inv_radial: 1.0 / size.x,
+            sectors_per_radius: TAU / size.y,
+            inv_along: 1.0 / size.z,
+        }
     }
 
     /// The shell holding undistorted radius `rho`.
     #[inline]
     pub fn shell(&self, rho: f32) -> i32 {
-        (rho.max(0.0) / self.size.x).floor() as i32
+        floor(rho.max(0.0) * self.inv_radial) as i32
     }
 
     /// The cell of a point at undistorted radius `rho`, azimuth `phi` in [0, 2 pi) and height
@@ -68,16 +77,16 @@ impl CylinderCells {
         let shell = shell as f32;
         let rho0 = shell * self.size.x;
         let mid = rho0 + 0.5 * self.size.x;
-        let sectors = (TAU * mid / self.size.y).round().max(1.0);
-        let a = phi / TAU * sectors;
-        let sector = a.floor().min(sectors - 1.0);
+        let sectors = floor(mid * self.sectors_per_radius + 0.5).max(1.0);
+        let a = phi * (1.0 / TAU) * sectors;
+        let sector = floor(a).min(sectors - 1.0);
         let width = TAU * mid / sectors;
         let (i, j) = (shell as i32, sector as i32);
-        let column = hash3(self.seed, i, j, i32::MIN);
-        let b = h / self.size.z + hash_unit(column, 0);
-        let k = b.floor();
+        let column = lattice_hash(self.seed, i, j, i32::MIN);
+        let b = h * self.inv_along + crate::rng::unit(column);
+        let k = floor(b);
         CellPoint {
-            hash: hash3(self.seed, i, j, k as i32),
+            hash: lattice_hash(self.seed, i, j, k as i32),
             radial: rho - rho0,
             tangential: (a - sector) * width,
             along: (b - k) * self.size.z,
@@ -89,17 +98,12 @@ impl CylinderCells {
 
 impl CellPoint {
     /// A feature centre inside the cell keeping a feature of half-extents `half` whole
-    /// (radial, tangential, along), from the cell hash's first three numbers.
+    /// (radial, tangential, along), from the cell hash.
     #[inline]
     pub fn centre(&self, size: Vec3, half: Vec3) -> Vec3 {
         let extent = Vec3::new(size.x, self.width, size.z);
         let room = (extent - 2.0 * half).max(Vec3::ZERO);
-        half + room
-            * Vec3::new(
-                hash_unit(self.hash, 0),
-                hash_unit(self.hash, 1),
-                hash_unit(self.hash, 2),
-            )
+        half + room * hash_units3(self.hash)
     }
 
     /// The point's offset from `centre` (radial, tangential, along).

@@ -21,6 +21,7 @@ use super::config::SpeciesConfig;
 use super::fibres::Fibres;
 use super::figure::Figure;
 use super::knot_colour::KnotColour;
+use super::noise::fract;
 use super::pigment::{PigmentNoise, absorb};
 use super::pores::Pores;
 use super::rays::Rays;
@@ -170,7 +171,7 @@ impl ProceduralWood {
         let field = self.field.sample(q);
         let tree = TreePoint::new(&self.field.pith, q);
         let time = self.years.time(field.g);
-        let phase = time - time.floor();
+        let phase = fract(time);
         let latewood = self.rings.latewood(phase);
         let knot = self.knots.as_ref().map_or(0.0, |k| k.mask(&field));
         let outside = knot < 1.0;

@@ -14,6 +14,27 @@ const KX: u64 = 0x9E37_79B9_7F4A_7C15;
 const KY: u64 = 0xC2B2_AE3D_27D4_EB4F;
 const KZ: u64 = 0x1656_67B1_9E37_79F9;
 
+/// floor(x) without a libm call: the default x86-64 target has no SSE4.1 `roundss`, so
+/// `f32::floor` is a function call, and the model floors a few dozen times per point. Exact
+/// for |x| < 2^31.
+#[inline]
+pub fn floor(x: f32) -> f32 {
+    let t = x as i32 as f32;
+    if t > x { t - 1.0 } else { t }
+}
+
+/// [`floor`] for each component.
+#[inline]
+pub fn floor3(p: Vec3) -> Vec3 {
+    Vec3::new(floor(p.x), floor(p.y), floor(p.z))
+}
+
+/// Fractional part x - floor(x), in [0, 1).
+#[inline]
+pub fn fract(x: f32) -> f32 {
+    x - floor(x)
+}
+
 /// One hash of a seed and a 3D lattice point.
 #[inline]
 pub fn lattice_hash(seed: u64, i: i32, j: i32, k: i32) -> u64 {
@@ -29,6 +50,14 @@ pub fn lattice_hash(seed: u64, i: i32, j: i32, k: i32) -> u64 {
 #[inline]
 pub fn hash_unit(h: u64, n: u64) -> f32 {
     crate::rng::unit(mix64(h ^ n.wrapping_mul(KY)))
+}
+
+/// Three independent uniform numbers in [0, 1) (21 bits each) from one hash.
+#[inline]
+pub fn hash_units3(h: u64) -> Vec3 {
+    let bits = mix64(h ^ KZ);
+    let unit21 = |shift: u32| ((bits >> shift) & 0x1F_FFFF) as f32 / (1u32 << 21) as f32;
+    Vec3::new(unit21(0), unit21(21), unit21(42))
 }
 
 /// A hash mapped to [-1, 1).
@@ -50,7 +79,7 @@ fn lerp(a: f32, b: f32, t: f32) -> f32 {
 
 /// Smooth 1D value noise in [-1, 1] with lattice spacing 1.
 pub fn value1(seed: u64, x: f32) -> f32 {
-    let i = x.floor();
+    let i = floor(x);
     let t = fade(x - i);
     let i = i as i32;
     lerp(
@@ -62,7 +91,7 @@ pub fn value1(seed: u64, x: f32) -> f32 {
 
 /// Smooth 3D value noise in [-1, 1] with lattice spacing 1 (trilinear with quintic fade).
 pub fn value3(seed: u64, p: Vec3) -> f32 {
-    let f = p.floor();
+    let f = floor3(p);
     let (i, j, k) = (f.x as i32, f.y as i32, f.z as i32);
     let d = p - f;
     let (u, v, w) = (fade(d.x), fade(d.y), fade(d.z));
@@ -103,7 +132,7 @@ fn grad(h: u64, x: f32, y: f32, z: f32) -> f32 {
 
 /// 3D gradient noise (Perlin 2002) with lattice spacing 1, roughly in [-1, 1].
 pub fn gradient3(seed: u64, p: Vec3) -> f32 {
-    let f = p.floor();
+    let f = floor3(p);
     let (i, j, k) = (f.x as i32, f.y as i32, f.z as i32);
     let d = p - f;
     let (u, v, w) = (fade(d.x), fade(d.y), fade(d.z));
@@ -157,6 +186,25 @@ pub fn vector_fbm3(seed: u64, p: Vec3, octaves: u32) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn fast_floor_matches_floor() {
+        for x in [
+            -2.5f32,
+            -2.0,
+            -0.3,
+            -0.0,
+            0.0,
+            0.7,
+            1.0,
+            3.999,
+            1e6 + 0.5,
+            -1e6 - 0.5,
+        ] {
+            assert_eq!(floor(x), x.floor(), "{x}");
+            assert!((0.0..1.0).contains(&fract(x)), "{x}");
+        }
+    }
 
     #[test]
     fn noise_is_deterministic_bounded_and_continuous() {

@@ -20,7 +20,7 @@ use serde::{Deserialize, Serialize};
 
 use super::cells::{CylinderCells, wyvill};
 use super::config::{check_colour, check_sizes, mm};
-use super::noise::{hash_unit, value3};
+use super::noise::{fract, hash_units3, value3};
 use super::tree::TreePoint;
 use super::years::YearTable;
 use crate::config::Checker;
@@ -169,18 +169,20 @@ impl Pores {
         if self.wander > 0.0 && rho > 0.0 {
             let shift =
                 self.wander * value3(self.wander_seed, tree.frame_point() * self.wander_scale);
-            phi = (phi + shift / rho).rem_euclid(std::f32::consts::TAU);
+            let tau = std::f32::consts::TAU;
+            phi = tau * fract((phi + shift / rho) / tau);
         }
         let cell = self.cells.locate(rho, phi, tree.h);
         let centre = cell.centre(self.cells.size, self.largest);
         let time = years.time((cell.rho0 + centre.x) * years_per_unit);
-        let zone = self.zone_weight(time - time.floor());
+        let zone = self.zone_weight(fract(time));
         let occurrence = self.occurrence[1] + (self.occurrence[0] - self.occurrence[1]) * zone;
-        if hash_unit(cell.hash, 3) >= occurrence {
+        let numbers = hash_units3(cell.hash ^ 0x504f);
+        if numbers.x >= occurrence {
             return 0.0;
         }
         let base = self.radius[1] + (self.radius[0] - self.radius[1]) * zone;
-        let radius = base * (1.0 + self.variation * (hash_unit(cell.hash, 4) - 0.5));
+        let radius = base * (1.0 + self.variation * (numbers.y - 0.5));
         let half_length = self.half_length * radius / self.radius[0].max(self.radius[1]);
         let d = cell.offset(centre);
         // Vessels are long tubes: the along-grain term is raised to the 4th power (a capsule

@@ -15,7 +15,7 @@ use serde::{Deserialize, Serialize};
 
 use super::cells::{CylinderCells, wyvill};
 use super::config::{check_colour, check_sizes, mm};
-use super::noise::hash_unit;
+use super::noise::hash_units3;
 use crate::config::Checker;
 use crate::error::Result;
 
@@ -107,19 +107,22 @@ impl Rays {
     #[inline]
     pub fn weight(&self, rho: f32, phi: f32, h: f32) -> f32 {
         let largest = self.half * (1.0 + 0.5 * self.variation);
-        let own = self.cells.shell(rho);
-        let reach = ((largest.x / self.cells.size.x).ceil() as i32).min(MAX_SHELL_REACH);
+        // A ray's centre lies in its own shell, so only shells meeting
+        // [rho - half length, rho + half length] can hold a ray reaching rho.
+        let first = self.cells.shell(rho - largest.x);
+        let last = self.cells.shell(rho + largest.x);
         let mut best = 0.0f32;
-        for shell in (own - reach).max(0)..=own + reach {
+        for shell in first..=last {
             let cell = self.cells.locate_in_shell(shell, rho, phi, h);
-            if hash_unit(cell.hash, 3) >= self.occurrence {
+            let numbers = hash_units3(cell.hash ^ 0x5241);
+            if numbers.x >= self.occurrence {
                 continue;
             }
             // Radially the centre may sit anywhere in the shell (the ray reaches out of it);
             // across and along the grain the ray stays inside its cell.
             let mut centre = cell.centre(self.cells.size, largest);
-            centre.x = self.cells.size.x * hash_unit(cell.hash, 0);
-            let half = self.half * (1.0 + self.variation * (hash_unit(cell.hash, 4) - 0.5));
+            centre.x = self.cells.size.x * numbers.y;
+            let half = self.half * (1.0 + self.variation * (numbers.z - 0.5));
             let d = cell.offset(centre) / half;
             best = best.max(wyvill(d.length_squared()));
         }

@@ -19,6 +19,9 @@ const STREAM_WIDTHS: u64 = 0x5945_4152;
 pub struct YearTable {
     /// Start of year y in G (`TABLE_YEARS + 1` entries; empty when widths do not vary).
     starts: Vec<f32>,
+    /// For each whole G value k below the last start, the year containing G = k: the search
+    /// for a year starts there and is only a step or two (widths are near 1).
+    first_year: Vec<u32>,
     /// Pigment exponent offset of each year (empty when colours do not vary).
     colour: Vec<f32>,
 }
@@ -42,12 +45,26 @@ impl YearTable {
             }
             starts.push(start as f32);
         }
+        let mut first_year = Vec::new();
+        if let Some(&end) = starts.last() {
+            let mut y = 0;
+            for k in 0..end.floor() as usize + 1 {
+                while y + 1 < TABLE_YEARS && starts[y + 1] <= k as f32 {
+                    y += 1;
+                }
+                first_year.push(y as u32);
+            }
+        }
         if colour_sigma > 0.0 {
             colour = (0..TABLE_YEARS)
                 .map(|_| colour_sigma * rng.normal())
                 .collect();
         }
-        Self { starts, colour }
+        Self {
+            starts,
+            first_year,
+            colour,
+        }
     }
 
     /// The ring time T of growth time `g` (years).
@@ -60,8 +77,11 @@ impl YearTable {
         if g >= self.starts[TABLE_YEARS] {
             return last + (g - self.starts[TABLE_YEARS]);
         }
-        // Index of the last start <= g.
-        let y = self.starts.partition_point(|&s| s <= g) - 1;
+        // The last start <= g, walking up from the year containing floor(g).
+        let mut y = self.first_year[(g as usize).min(self.first_year.len() - 1)] as usize;
+        while self.starts[y + 1] <= g {
+            y += 1;
+        }
         let (s0, s1) = (self.starts[y], self.starts[y + 1]);
         y as f32 + (g - s0) / (s1 - s0)
     }
@@ -69,7 +89,7 @@ impl YearTable {
     /// The pigment exponent offset of the year containing ring time `time`.
     #[inline]
     pub fn colour_offset(&self, time: f32) -> f32 {
-        let y = time.floor();
+        let y = super::noise::floor(time);
         if self.colour.is_empty() || y < 0.0 || y >= TABLE_YEARS as f32 {
             return 0.0;
         }
