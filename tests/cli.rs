@@ -221,7 +221,10 @@ fn sample_writes_the_mokume_layout_and_slice_takes_a_species() {
             .args(["slice", "--plane", "cut2", "--out"])
             .arg(out.join("none.png")),
     );
-    assert!(err.contains("--field") && err.contains("--procedural"), "{err}");
+    assert!(
+        err.contains("--field") && err.contains("--procedural"),
+        "{err}"
+    );
     std::fs::remove_dir_all(&out).unwrap();
 }
 
@@ -230,14 +233,26 @@ fn demo_builds_samples_from_species_presets() {
     let out = scratch("demo");
     run_ok(
         xylem()
-            .args(["demo", "--size", "8", "--species", "chestnut,softwood", "--out"])
+            .args([
+                "demo",
+                "--size",
+                "8",
+                "--species",
+                "chestnut,softwood",
+                "--out",
+            ])
             .arg(&out),
     );
     for species in ["chestnut", "softwood"] {
         let dir = out.join(species);
         let cross = image::open(dir.join("unfolded.png")).unwrap();
         assert_eq!((cross.width(), cross.height()), (32, 24));
-        for f in ["unfolded_arl.png", "cuts.png", "config.toml", "sample/A_col.png"] {
+        for f in [
+            "unfolded_arl.png",
+            "cuts.png",
+            "config.toml",
+            "sample/A_col.png",
+        ] {
             assert!(dir.join(f).is_file(), "{species}/{f}");
         }
     }

@@ -89,26 +89,26 @@ pub fn value1(seed: u64, x: f32) -> f32 {
     )
 }
 
+/// Trilinear blend of the 8 lattice corners around a point, with fade weights (u, v, w).
+#[inline]
+fn trilinear(corner: impl Fn(i32, i32, i32) -> f32, u: f32, v: f32, w: f32) -> f32 {
+    let face = |c: i32| {
+        lerp(
+            lerp(corner(0, 0, c), corner(1, 0, c), u),
+            lerp(corner(0, 1, c), corner(1, 1, c), u),
+            v,
+        )
+    };
+    lerp(face(0), face(1), w)
+}
+
 /// Smooth 3D value noise in [-1, 1] with lattice spacing 1 (trilinear with quintic fade).
 pub fn value3(seed: u64, p: Vec3) -> f32 {
     let f = floor3(p);
     let (i, j, k) = (f.x as i32, f.y as i32, f.z as i32);
     let d = p - f;
-    let (u, v, w) = (fade(d.x), fade(d.y), fade(d.z));
     let at = |a: i32, b: i32, c: i32| signed(lattice_hash(seed, i + a, j + b, k + c));
-    lerp(
-        lerp(
-            lerp(at(0, 0, 0), at(1, 0, 0), u),
-            lerp(at(0, 1, 0), at(1, 1, 0), u),
-            v,
-        ),
-        lerp(
-            lerp(at(0, 0, 1), at(1, 0, 1), u),
-            lerp(at(0, 1, 1), at(1, 1, 1), u),
-            v,
-        ),
-        w,
-    )
+    trilinear(at, fade(d.x), fade(d.y), fade(d.z))
 }
 
 /// Dot product of one of the 12 cube-edge gradients of improved Perlin noise with (x, y, z).
@@ -135,7 +135,6 @@ pub fn gradient3(seed: u64, p: Vec3) -> f32 {
     let f = floor3(p);
     let (i, j, k) = (f.x as i32, f.y as i32, f.z as i32);
     let d = p - f;
-    let (u, v, w) = (fade(d.x), fade(d.y), fade(d.z));
     let g = |a: i32, b: i32, c: i32| {
         grad(
             lattice_hash(seed, i + a, j + b, k + c),
@@ -144,21 +143,8 @@ pub fn gradient3(seed: u64, p: Vec3) -> f32 {
             d.z - c as f32,
         )
     };
-    let value = lerp(
-        lerp(
-            lerp(g(0, 0, 0), g(1, 0, 0), u),
-            lerp(g(0, 1, 0), g(1, 1, 0), u),
-            v,
-        ),
-        lerp(
-            lerp(g(0, 0, 1), g(1, 0, 1), u),
-            lerp(g(0, 1, 1), g(1, 1, 1), u),
-            v,
-        ),
-        w,
-    );
     // The raw range of improved Perlin noise is about [-1.04, 1.04]; most values lie well inside.
-    value.clamp(-1.0, 1.0)
+    trilinear(g, fade(d.x), fade(d.y), fade(d.z)).clamp(-1.0, 1.0)
 }
 
 /// Fractal sum of `octaves` gradient-noise octaves (each at twice the frequency and half the
