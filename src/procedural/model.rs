@@ -28,6 +28,7 @@ use super::rays::Rays;
 use super::rings::Rings;
 use super::tree::TreePoint;
 use super::years::YearTable;
+use crate::field::smin::smoothstep;
 use crate::field::{FieldSample, GrowthField};
 use crate::rng::Rng;
 use crate::texture::SolidTexture;
@@ -222,7 +223,10 @@ impl ProceduralWood {
             c = c.lerp(p.colour, w * p.opacity * clear);
         }
         for (w, layer) in s.rays.iter().zip(&self.rays) {
-            c = c.lerp(layer.colour, (3.0 * w).min(1.0) * layer.opacity * clear);
+            // Rays are flat ribbons with crisp edges: a soft kernel cut obliquely would smear
+            // them over millimetres, so the weight is thresholded with a short ramp.
+            let w = smoothstep(0.02, 0.2, *w);
+            c = c.lerp(layer.colour, w * layer.opacity * clear);
         }
         if let Some(k) = &self.knots {
             c = c.lerp(k.outline_colour, k.outline(&s.field));
