@@ -2,6 +2,7 @@
 
 mod demo_cmd;
 mod field_cmd;
+mod output_args;
 mod presets;
 mod procedural_cmd;
 mod sample_cmd;

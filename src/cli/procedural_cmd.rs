@@ -1,7 +1,5 @@
 //! `xylem procedural`: render the procedural wood model of a species config.
 
-use std::path::PathBuf;
-
 use anyhow::{Context, Result};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -12,6 +10,7 @@ use xylem::outputs::SliceSet;
 use xylem::procedural::ProceduralWood;
 use xylem::volume::Volume;
 
+use super::output_args::SizeAndOut;
 use super::presets::SpeciesSource;
 
 /// Render a species with the procedural wood model: the six faces, the two validation cuts,
@@ -28,12 +27,8 @@ the voxel centred at ((i + 0.5)/R - 0.5, (j + 0.5)/R - 0.5, (k + 0.5)/R - 0.5)."
 pub struct ProceduralArgs {
     #[command(flatten)]
     pub source: SpeciesSource,
-    /// Image side in pixels.
-    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(2..=8192))]
-    pub size: u32,
-    /// Output folder (created; must be new, empty, or an earlier xylem output).
-    #[arg(long)]
-    pub out: PathBuf,
+    #[command(flatten)]
+    pub target: SizeAndOut,
     /// Also write an R^3 RGB volume as DIR/volume.npy.
     #[arg(long, value_name = "R", value_parser = clap::value_parser!(u32).range(2..=1024))]
     pub volume: Option<u32>,
@@ -41,9 +36,9 @@ pub struct ProceduralArgs {
 
 pub fn run(args: ProceduralArgs) -> Result<()> {
     let (cfg, origin) = args.source.load()?;
-    let out = OutputDir::prepare(&args.out)?;
+    let out = OutputDir::prepare(&args.target.out)?;
     let model = ProceduralWood::new(&cfg);
-    SliceSet::render(&model, args.size as usize)
+    SliceSet::render(&model, args.target.size as usize)
         .write(&out, "")
         .with_context(|| format!("writing the images of {origin}"))?;
     write_config_copy(&out.path("config.toml"), &cfg, &origin)?;

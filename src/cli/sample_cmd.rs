@@ -1,13 +1,12 @@
 //! `xylem sample`: a synthetic photographed cube in the Mokume layout, with its hidden truth.
 
-use std::path::PathBuf;
-
 use anyhow::{Context, Result};
 use clap::Args;
 use xylem::io::OutputDir;
 use xylem::procedural::synthetic::{knot_crossings, rings_follow_field};
 use xylem::procedural::write_sample;
 
+use super::output_args::SizeAndOut;
 use super::presets::SpeciesSource;
 
 /// Write a synthetic sample folder from a species config: face photos, exact ring images,
@@ -24,18 +23,14 @@ species.toml. The folder loads like the real Mokume samples.")]
 pub struct SampleArgs {
     #[command(flatten)]
     pub source: SpeciesSource,
-    /// Face side in pixels.
-    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(2..=8192))]
-    pub size: u32,
-    /// Output folder (created; must be new, empty, or an earlier xylem output).
-    #[arg(long)]
-    pub out: PathBuf,
+    #[command(flatten)]
+    pub target: SizeAndOut,
 }
 
 pub fn run(args: SampleArgs) -> Result<()> {
     let (cfg, origin) = args.source.load()?;
-    let out = OutputDir::prepare(&args.out)?;
-    write_sample(&cfg, &origin, args.size as usize, &out)
+    let out = OutputDir::prepare(&args.target.out)?;
+    write_sample(&cfg, &origin, args.target.size as usize, &out)
         .with_context(|| format!("writing the sample of {origin}"))?;
     let crossings = knot_crossings(&cfg.knots);
     println!(
