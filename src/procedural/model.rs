@@ -26,7 +26,7 @@ use super::pigment::{PigmentNoise, absorb};
 use super::pores::Pores;
 use super::rays::Rays;
 use super::rings::Rings;
-use super::tree::TreePoint;
+use super::tree::{TreePoint, radial_frame};
 use super::years::YearTable;
 use crate::field::smin::smoothstep;
 use crate::field::{FieldSample, GrowthField};
@@ -178,7 +178,11 @@ impl ProceduralWood {
         let outside = knot < 1.0;
         let rho = field.g / self.field.years_per_unit;
         let pore = match &self.pores {
-            Some(p) if outside => p.weight(&tree, rho, &self.years, self.field.years_per_unit),
+            Some(p) if outside => {
+                p.weight(&tree, rho, &self.years, self.field.years_per_unit, || {
+                    self.radial_rate(q)
+                })
+            }
             _ => 0.0,
         };
         let mut rays = [0.0; MAX_RAYS];
@@ -202,6 +206,17 @@ impl ProceduralWood {
             fibre,
             pigment,
         }
+    }
+
+    /// d rho / d r at an idealised point: the stem's growth rate along the radius relative to
+    /// `years_per_unit` (1 without a rate grid), by a central difference of 0.08 mm.
+    fn radial_rate(&self, q: Vec3) -> f32 {
+        let Some((radial, _)) = radial_frame(&self.field.pith, q) else {
+            return 1.0;
+        };
+        const STEP: f32 = 1e-3;
+        let dg = self.field.stem_time(q + STEP * radial) - self.field.stem_time(q - STEP * radial);
+        dg / (2.0 * STEP * self.field.years_per_unit)
     }
 
     /// The colour of one sample (display-referred RGB in [0, 1]).

@@ -158,12 +158,16 @@ impl Pores {
     /// Pore weight in [0, 1] at a tree point with undistorted radius `rho` = G /
     /// years_per_unit. `years` and `years_per_unit` give the ring phase at the pore's centre.
     #[inline]
+    ///
+    /// `radial_rate` gives d rho / d r at the point (the local growth rate); it is only called
+    /// for points next to a pore, since it costs two field evaluations.
     pub fn weight(
         &self,
         tree: &TreePoint,
         rho: f32,
         years: &YearTable,
         years_per_unit: f32,
+        radial_rate: impl FnOnce() -> f32,
     ) -> f32 {
         let mut phi = tree.phi;
         if self.wander > 0.0 && rho > 0.0 {
@@ -189,6 +193,15 @@ impl Pores {
         // that keeps its full width over most of its length), so an end-grain cut through a
         // pore shows its whole cross-section, not the tip of an ellipsoid.
         let along = (d.z * d.z) / (half_length * half_length);
-        wyvill((d.x * d.x + d.y * d.y) / (radius * radius) + along * along * along * along)
+        let rest = (d.y * d.y) / (radius * radius) + along * along * along * along;
+        if rest >= 1.0 {
+            return 0.0;
+        }
+        // rho grows faster than the physical radius where the growth rate is above 1, so in
+        // rho the pore's radial radius is scaled by the local rate: it stays round in real
+        // space instead of flattening into a tangential dash where rings are narrow. Clamped
+        // to the room its cell has.
+        let radial = (radius * radial_rate().clamp(0.25, 4.0)).min(self.cells.size.x * 0.5);
+        wyvill((d.x * d.x) / (radial * radial) + rest)
     }
 }
