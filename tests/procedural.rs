@@ -242,6 +242,33 @@ fn knots_darken_the_wood_inside_them() {
     }
 }
 
+#[test]
+fn dead_knots_get_a_dark_outline() {
+    let mut cfg = preset("softwood");
+    cfg.knots[0].death = Some(14.0);
+    let outline = cfg.knot_colour.outline_years;
+    let model = ProceduralWood::new(&cfg);
+    let n = 160;
+    let plane = Plane::face(Face::C);
+    let lum = slice_plane(&model, &plane, n, n).luminance();
+    let (mut band, mut nb, mut core, mut nc) = (0.0, 0, 0.0, 0);
+    for (i, p) in plane_points(&plane, n).iter().enumerate() {
+        let f = model.sample(*p).field;
+        let inside = f.stem - f.knot_time;
+        if f.in_dead_knot && inside > 0.4 * outline && inside < 0.6 * outline {
+            band += lum.data[i];
+            nb += 1;
+        } else if f.in_dead_knot && inside > 3.0 * outline {
+            core += lum.data[i];
+            nc += 1;
+        }
+    }
+    let (band, core) = (band / nb as f32, core / nc as f32);
+    println!("dead knot on C: outline band {nb} px luminance {band:.3}, inside {nc} px {core:.3}");
+    assert!(nb > 20 && nc > 100, "the dead knot should cross face C");
+    assert!(band < core - 0.1, "no dark outline around the dead knot");
+}
+
 /// Mean local orientation coherence of an image's grain, in [0, 1]: the luminance is blurred
 /// (box 5 x 5, twice) so pores and fibres do not count, then in each 32 x 32 block the
 /// structure tensor of the gradients gives |sum (gx^2 - gy^2, 2 gx gy)| / sum (gx^2 + gy^2):
