@@ -153,7 +153,8 @@ fn procedural_writes_images_config_and_volume() {
     let out = scratch("procedural");
     run_ok(
         xylem()
-            .args(["procedural", "--size", "12", "--volume", "6", "--out"])
+            .args(["procedural", "--size", "12", "--volume", "6", "--fibre-direction"])
+            .arg("--out")
             .arg(&out)
             .arg("--config")
             .arg(repo("configs/species/oak.toml")),
@@ -176,6 +177,10 @@ fn procedural_writes_images_config_and_volume() {
     let model = xylem::procedural::ProceduralWood::new(&original);
     let expected = model.colour(volume.voxel_point(1, 4, 2));
     assert_eq!(volume.voxel(1, 4, 2), &expected.to_array());
+    let fibres = xylem::io::npy::read_volume(&out.join("fibre_direction.npy")).unwrap();
+    assert_eq!((fibres.dims, fibres.channels), ([6, 6, 6], 3));
+    let d = glam::Vec3::from_slice(fibres.voxel(3, 3, 3));
+    assert!((d.length() - 1.0).abs() < 1e-4 && d.dot(model.field.pith.dir) > 0.9);
     std::fs::remove_dir_all(&out).unwrap();
 }
 

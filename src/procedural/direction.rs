@@ -64,3 +64,15 @@ impl SolidTexture for WithFibreDirection<'_> {
         out[3..].copy_from_slice(&self.0.fibre_direction(p).to_array());
     }
 }
+
+/// Three channels: the unit fibre direction alone (x, y, z in the cube frame).
+pub struct FibreDirection<'a>(pub &'a ProceduralWood);
+
+impl SolidTexture for FibreDirection<'_> {
+    fn channels(&self) -> usize {
+        3
+    }
+    fn eval(&self, p: Vec3, out: &mut [f32]) {
+        out.copy_from_slice(&self.0.fibre_direction(p).to_array());
+    }
+}

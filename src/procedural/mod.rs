@@ -41,6 +41,6 @@ pub mod years;
 
 pub use colour_map::{ColourMap, ColourMapConfig};
 pub use config::SpeciesConfig;
-pub use direction::WithFibreDirection;
+pub use direction::{FibreDirection, WithFibreDirection};
 pub use model::{ProceduralWood, RingTime, WoodSample};
 pub use synthetic::write_sample;
