@@ -153,7 +153,14 @@ fn procedural_writes_images_config_and_volume() {
     let out = scratch("procedural");
     run_ok(
         xylem()
-            .args(["procedural", "--size", "12", "--volume", "6", "--fibre-direction"])
+            .args([
+                "procedural",
+                "--size",
+                "12",
+                "--volume",
+                "6",
+                "--fibre-direction",
+            ])
             .arg("--out")
             .arg(&out)
             .arg("--config")

@@ -26,10 +26,10 @@ use super::pigment::{PigmentNoise, absorb};
 use super::pores::Pores;
 use super::rays::Rays;
 use super::rings::Rings;
-use super::tree::{TreePoint, radial_frame};
+use super::tree::TreePoint;
 use super::years::YearTable;
 use crate::field::smin::smoothstep;
-use crate::field::{FieldSample, GrowthField};
+use crate::field::{Cylindrical, FieldSample, GrowthField};
 use crate::rng::Rng;
 use crate::texture::SolidTexture;
 
@@ -180,7 +180,7 @@ impl ProceduralWood {
         let pore = match &self.pores {
             Some(p) if outside => {
                 p.weight(&tree, rho, &self.years, self.field.years_per_unit, || {
-                    self.radial_rate(q)
+                    self.radial_rate(&tree)
                 })
             }
             _ => 0.0,
@@ -208,15 +208,16 @@ impl ProceduralWood {
         }
     }
 
-    /// d rho / d r at an idealised point: the stem's growth rate along the radius relative to
-    /// `years_per_unit` (1 without a rate grid), by a central difference of 0.08 mm.
-    fn radial_rate(&self, q: Vec3) -> f32 {
-        let Some((radial, _)) = radial_frame(&self.field.pith, q) else {
-            return 1.0;
-        };
-        const STEP: f32 = 1e-3;
-        let dg = self.field.stem_time(q + STEP * radial) - self.field.stem_time(q - STEP * radial);
-        dg / (2.0 * STEP * self.field.years_per_unit)
+    /// d rho / d r at a tree point: the stem's interpolated growth rate relative to
+    /// `years_per_unit` (1 without a rate grid).
+    fn radial_rate(&self, tree: &TreePoint) -> f32 {
+        self.field.rates.as_ref().map_or(1.0, |grid| {
+            grid.rate(&Cylindrical {
+                h: tree.h,
+                r: tree.r,
+                phi: tree.phi,
+            })
+        })
     }
 
     /// The colour of one sample (display-referred RGB in [0, 1]).

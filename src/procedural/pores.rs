@@ -160,7 +160,7 @@ impl Pores {
     #[inline]
     ///
     /// `radial_rate` gives d rho / d r at the point (the local growth rate); it is only called
-    /// for points next to a pore, since it costs two field evaluations.
+    /// for points next to a pore, since it costs a rate-grid evaluation.
     pub fn weight(
         &self,
         tree: &TreePoint,
