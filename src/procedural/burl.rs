@@ -318,11 +318,6 @@ impl Burl {
         self.levels
     }
 
-    /// Number of buds placed.
-    pub fn bud_count(&self) -> usize {
-        self.grid.buds.len()
-    }
-
     /// The lookup point of curl level `level` (0 = strongest) for `p`.
     pub fn lookup(&self, p: Vec3, level: usize) -> Vec3 {
         let scale = self.level_push.powi(level as i32);

@@ -38,8 +38,7 @@ impl ProceduralWood {
         let pith = self.field.pith.dir;
         let sample = self.field.sample(q);
         if let Strand::Knot(i) = sample.strand {
-            let along = self.field.knots[i].dir;
-            return along;
+            return self.field.knots[i].dir;
         }
         if self.field.knots.is_empty() && self.field.rates.is_none() {
             return pith;
