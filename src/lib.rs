@@ -18,6 +18,8 @@
 //! - [`sample`]: sample folders in the Mokume layout (photos, ring images, knot markers).
 //! - [`rng`]: seeded, hash-based randomness (same seed, same output).
 //! - [`device`]: choosing burn's CPU device (flex or ndarray) at run time.
+//! - [`procedural`]: the procedural wood model (rings, pores, rays, fibres, knots, figure,
+//!   burl) and synthetic sample cubes made from species presets.
 
 pub mod config;
 pub mod device;
@@ -29,6 +31,7 @@ pub mod image2;
 pub mod io;
 pub mod outputs;
 pub mod presets;
+pub mod procedural;
 pub mod render;
 pub mod rng;
 pub mod sample;

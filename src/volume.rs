@@ -52,6 +52,16 @@ impl Volume {
 
     /// Evaluates a solid texture at every voxel centre of an n^3 grid, in parallel.
     pub fn from_texture(texture: &dyn SolidTexture, n: usize) -> Self {
+        Self::from_texture_with_progress(texture, n, &|| {})
+    }
+
+    /// [`Volume::from_texture`], calling `slab_done` after each of the n x-slabs (for
+    /// progress bars on long evaluations).
+    pub fn from_texture_with_progress(
+        texture: &dyn SolidTexture,
+        n: usize,
+        slab_done: &(dyn Fn() + Sync),
+    ) -> Self {
         let channels = texture.channels();
         let mut data = vec![0.0f32; n * n * n * channels];
         data.par_chunks_mut(n * n * channels)
@@ -68,6 +78,7 @@ impl Volume {
                         );
                     }
                 }
+                slab_done();
             });
         Self {
             dims: [n, n, n],

@@ -139,11 +139,140 @@ fn bad_inputs_give_clear_errors() {
 
 #[test]
 fn help_shows_examples() {
-    for cmd in ["field", "slice", "demo"] {
+    for cmd in ["field", "slice", "demo", "procedural", "sample"] {
         let help = run_ok(xylem().args([cmd, "--help"]));
         assert!(
             help.contains("Example"),
             "{cmd} --help lacks examples:\n{help}"
         );
     }
+}
+
+#[test]
+fn procedural_writes_images_config_and_volume() {
+    let out = scratch("procedural");
+    run_ok(
+        xylem()
+            .args([
+                "procedural",
+                "--size",
+                "12",
+                "--volume",
+                "6",
+                "--fibre-direction",
+            ])
+            .arg("--out")
+            .arg(&out)
+            .arg("--config")
+            .arg(repo("configs/species/oak.toml")),
+    );
+    for f in ["A", "B", "C", "D", "E", "F"] {
+        let img = image::open(out.join(format!("faces/{f}.png"))).unwrap();
+        assert_eq!((img.width(), img.height()), (12, 12));
+        assert_eq!(img.color(), image::ColorType::Rgb8);
+    }
+    for f in ["cuts/cut1.png", "cuts/cut2.png", "unfolded.png"] {
+        assert!(out.join(f).is_file(), "{f}");
+    }
+    let copy = xylem::procedural::SpeciesConfig::load(&out.join("config.toml")).unwrap();
+    let original =
+        xylem::procedural::SpeciesConfig::load(&repo("configs/species/oak.toml")).unwrap();
+    assert_eq!(copy, original);
+    let volume = xylem::io::npy::read_volume(&out.join("volume.npy")).unwrap();
+    assert_eq!((volume.dims, volume.channels), ([6, 6, 6], 3));
+    // Voxel (i, j, k) is the model's colour at that voxel centre.
+    let model = xylem::procedural::ProceduralWood::new(&original);
+    let expected = model.colour(volume.voxel_point(1, 4, 2));
+    assert_eq!(volume.voxel(1, 4, 2), &expected.to_array());
+    let fibres = xylem::io::npy::read_volume(&out.join("fibre_direction.npy")).unwrap();
+    assert_eq!((fibres.dims, fibres.channels), ([6, 6, 6], 3));
+    let d = glam::Vec3::from_slice(fibres.voxel(3, 3, 3));
+    assert!((d.length() - 1.0).abs() < 1e-4 && d.dot(model.field.pith.dir) > 0.9);
+    std::fs::remove_dir_all(&out).unwrap();
+}
+
+#[test]
+fn sample_writes_the_mokume_layout_and_slice_takes_a_species() {
+    let out = scratch("sample");
+    let stdout = run_ok(
+        xylem()
+            .args(["sample", "--preset", "softwood", "--size", "16", "--out"])
+            .arg(&out),
+    );
+    assert!(stdout.contains("2 knot crossings"), "{stdout}");
+    for f in ["A", "B", "C", "D", "E", "F"] {
+        for kind in ["col", "arl"] {
+            assert!(out.join(format!("{f}_{kind}.png")).is_file(), "{f}_{kind}");
+        }
+    }
+    assert!(out.join("C_knot.png").is_file() && out.join("F_knot.png").is_file());
+    assert!(!out.join("A_knot.png").exists());
+    for f in ["cut1.png", "cut2.png", "field.toml", "species.toml"] {
+        assert!(out.join("truth").join(f).is_file(), "truth/{f}");
+    }
+    // The truth field renders with `xylem field`.
+    run_ok(
+        xylem()
+            .args(["field", "--size", "8", "--out"])
+            .arg(out.join("field-render"))
+            .arg("--config")
+            .arg(out.join("truth/field.toml")),
+    );
+
+    let png = out.join("slice.png");
+    run_ok(
+        xylem()
+            .args(["slice", "--plane", "cut2", "--size", "10", "--procedural"])
+            .arg(repo("configs/species/walnut.toml"))
+            .arg("--out")
+            .arg(&png),
+    );
+    assert_eq!(image::open(&png).unwrap().color(), image::ColorType::Rgb8);
+    let err = run_err(
+        xylem()
+            .args(["slice", "--plane", "cut2", "--out"])
+            .arg(out.join("none.png")),
+    );
+    assert!(
+        err.contains("--field") && err.contains("--procedural"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&out).unwrap();
+}
+
+#[test]
+fn demo_builds_samples_from_species_presets() {
+    let out = scratch("demo");
+    run_ok(
+        xylem()
+            .args([
+                "demo",
+                "--size",
+                "8",
+                "--species",
+                "chestnut,softwood",
+                "--out",
+            ])
+            .arg(&out),
+    );
+    for species in ["chestnut", "softwood"] {
+        let dir = out.join(species);
+        let cross = image::open(dir.join("unfolded.png")).unwrap();
+        assert_eq!((cross.width(), cross.height()), (32, 24));
+        for f in [
+            "unfolded_arl.png",
+            "cuts.png",
+            "config.toml",
+            "sample/A_col.png",
+        ] {
+            assert!(dir.join(f).is_file(), "{species}/{f}");
+        }
+    }
+    let err = run_err(
+        xylem()
+            .args(["demo", "--size", "8", "--species", "teak", "--out"])
+            .arg(out.join("x")),
+    );
+    assert!(err.contains("teak") && err.contains("chestnut"), "{err}");
+    std::fs::remove_dir_all(&out).unwrap();
 }

@@ -4,8 +4,11 @@ mod demo_cmd;
 mod export_cmd;
 mod field_cmd;
 mod mesh_cmd;
+mod output_args;
 mod presets;
+mod procedural_cmd;
 mod render_cmd;
+mod sample_cmd;
 mod slice_cmd;
 mod texture_source;
 
@@ -29,6 +32,8 @@ pub enum Command {
     Field(field_cmd::FieldArgs),
     MeshBowl(mesh_cmd::MeshBowlArgs),
     Render(render_cmd::RenderArgs),
+    Procedural(procedural_cmd::ProceduralArgs),
+    Sample(sample_cmd::SampleArgs),
     Slice(slice_cmd::SliceArgs),
 }
 
@@ -39,6 +44,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Field(a) => field_cmd::run(a),
         Command::MeshBowl(a) => mesh_cmd::run(a),
         Command::Render(a) => render_cmd::run(a),
+        Command::Procedural(a) => procedural_cmd::run(a),
+        Command::Sample(a) => sample_cmd::run(a),
         Command::Slice(a) => slice_cmd::run(a),
     }
 }

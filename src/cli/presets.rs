@@ -1,11 +1,13 @@
-//! Where a command's growth field comes from: a config file or a built-in preset.
+//! Where a command's config comes from: a file or a built-in preset (growth fields and
+//! species).
 
 use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::Args;
 use xylem::field::FieldConfig;
-use xylem::presets::load_field_preset;
+use xylem::presets::{load_field_preset, load_species_preset};
+use xylem::procedural::SpeciesConfig;
 
 #[derive(Args, Debug)]
 #[group(required = true, multiple = false)]
@@ -26,5 +28,30 @@ impl FieldSource {
         }
         let name = self.preset.as_deref().unwrap_or_default();
         Ok((load_field_preset(name)?, format!("built-in preset {name}")))
+    }
+}
+
+#[derive(Args, Debug)]
+#[group(required = true, multiple = false)]
+pub struct SpeciesSource {
+    /// Species config of the procedural model (TOML, see configs/species/).
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+    /// A built-in species preset: oak, chestnut, maple, walnut, softwood, burl.
+    #[arg(long, value_name = "NAME")]
+    pub preset: Option<String>,
+}
+
+impl SpeciesSource {
+    /// The config and a description of where it came from.
+    pub fn load(&self) -> Result<(SpeciesConfig, String)> {
+        if let Some(path) = &self.config {
+            return Ok((SpeciesConfig::load(path)?, path.display().to_string()));
+        }
+        let name = self.preset.as_deref().unwrap_or_default();
+        Ok((
+            load_species_preset(name)?,
+            format!("built-in species preset {name}"),
+        ))
     }
 }

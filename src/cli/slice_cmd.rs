@@ -4,10 +4,11 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::Args;
-use xylem::field::{GrowthField, RingImage};
 use xylem::frame::PlaneSpec;
 use xylem::io::{check_new_file, save_png};
 use xylem::slice::slice_plane;
+
+use super::texture_source::TextureSource;
 
 /// Slice a solid texture with a plane and write one PNG.
 #[derive(Args, Debug)]
@@ -20,11 +21,12 @@ use xylem::slice::slice_plane;
 
 Examples:
   xylem slice --field configs/fields/knot_alive.toml --plane cut1 --size 256 --out cut1.png
-  xylem slice --field configs/fields/far.toml --plane \"-0.5,0,0.5;1,0,0;0,0,-1\" --out mid.png")]
+  xylem slice --field configs/fields/far.toml --plane \"-0.5,0,0.5;1,0,0;0,0,-1\" --out mid.png
+  xylem slice --procedural configs/species/oak.toml --plane cut2 --size 512 --out oak.png
+  xylem slice --volume out/synth/volume.npy --plane cut1 --out cut1.png")]
 pub struct SliceArgs {
-    /// Growth-field config (TOML); the image is its ring localisation I(G) in grey.
-    #[arg(long, value_name = "FILE")]
-    pub field: PathBuf,
+    #[command(flatten)]
+    pub source: TextureSource,
     /// The plane: cut1, cut2, A..F, or "ox,oy,oz;ux,uy,uz;vx,vy,vz".
     #[arg(long, allow_hyphen_values = true)]
     pub plane: PlaneSpec,
@@ -41,10 +43,9 @@ pub struct SliceArgs {
 
 pub fn run(args: SliceArgs) -> Result<()> {
     check_new_file(&args.out, args.force)?;
-    let cfg = xylem::field::FieldConfig::load(&args.field)?;
-    let field = GrowthField::from_config(&cfg);
+    let (texture, _) = args.source.load_colour()?;
     let n = args.size as usize;
-    let image = slice_plane(&RingImage(&field), &args.plane.plane(), n, n);
+    let image = slice_plane(texture.as_ref(), &args.plane.plane(), n, n);
     save_png(&image, &args.out)?;
     Ok(())
 }

@@ -1,0 +1,178 @@
+//! The species config: one TOML file per species under `configs/species/`.
+//!
+//! It holds the growth field as the foundation's component structs (`pith`, `growth`,
+//! `knots`, so [`SpeciesConfig::field_config`] rebuilds the exact [`FieldConfig`]), the colour
+//! sections of the procedural model and a `seed` for everything random in them (pore and ray
+//! placement, fibres, noise, year-to-year variation, burl buds). The field's own distortion
+//! keeps its own seed, so changing `seed` moves pores and rays but not the rings.
+//!
+//! Physical sizes are given in millimetres (`*_mm` keys) and converted with
+//! 1 cube unit = `frame::CM_PER_UNIT` cm = 40 mm. Colours are display-referred sRGB in [0, 1].
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use super::burl::BurlConfig;
+use super::fibres::FibreConfig;
+use super::figure::FigureConfig;
+use super::knot_colour::KnotColourConfig;
+use super::pigment::PigmentConfig;
+use super::pores::PoreConfig;
+use super::rays::RayConfig;
+use super::rings::RingConfig;
+use crate::config::{Checker, load_toml, parse_toml};
+use crate::error::Result;
+use crate::field::{FieldConfig, GrowthConfig, KnotConfig, PithConfig};
+use crate::frame::CM_PER_UNIT;
+
+/// Most ray layers a species may have (each costs one cell lookup per point).
+pub const MAX_RAY_LAYERS: usize = 4;
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpeciesConfig {
+    /// A label for messages and outputs.
+    #[serde(default)]
+    pub name: String,
+    /// Seed of every random choice of the colour model.
+    pub seed: u64,
+    pub pith: PithConfig,
+    pub growth: GrowthConfig,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub knots: Vec<KnotConfig>,
+    pub rings: RingConfig,
+    /// Small 3D colour noise (absent: none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pigment: Option<PigmentConfig>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fibres: Option<FibreConfig>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pores: Option<PoreConfig>,
+    /// Ray layers (e.g. large and fine rays), each with its own cells and colour.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub rays: Vec<RayConfig>,
+    /// Colour of knots (used only when `knots` is not empty).
+    #[serde(default)]
+    pub knot_colour: KnotColourConfig,
+    /// Figure: radial and tangential displacement of the lookup point (absent: none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub figure: Option<FigureConfig>,
+    /// Burl (Moyer 2003): buds pushing the wood around in several blended levels.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub burl: Option<BurlConfig>,
+}
+
+impl SpeciesConfig {
+    /// Loads and validates a species file.
+    pub fn load(path: &Path) -> Result<Self> {
+        let cfg: SpeciesConfig = load_toml(path)?;
+        cfg.validate(&Checker::new(path))?;
+        Ok(cfg)
+    }
+
+    /// Parses and validates TOML text (`origin` names it in errors).
+    pub fn parse(text: &str, origin: &Path) -> Result<Self> {
+        let cfg: SpeciesConfig = parse_toml(text, origin)?;
+        cfg.validate(&Checker::new(origin))?;
+        Ok(cfg)
+    }
+
+    /// The growth field of this species, as `xylem field --config` reads it.
+    pub fn field_config(&self) -> FieldConfig {
+        FieldConfig {
+            pith: self.pith.clone(),
+            growth: self.growth.clone(),
+            knots: self.knots.clone(),
+        }
+    }
+
+    pub fn validate(&self, check: &Checker) -> Result<()> {
+        self.field_config().validate(check)?;
+        self.rings.validate(&check.nested("rings"))?;
+        if let Some(p) = &self.pigment {
+            p.validate(&check.nested("pigment"))?;
+        }
+        if let Some(f) = &self.fibres {
+            f.validate(&check.nested("fibres"))?;
+        }
+        if let Some(p) = &self.pores {
+            p.validate(&check.nested("pores"))?;
+        }
+        if self.rays.len() > MAX_RAY_LAYERS {
+            return Err(check.error(
+                "rays",
+                format!(
+                    "has {} layers; at most {MAX_RAY_LAYERS} are supported",
+                    self.rays.len()
+                ),
+            ));
+        }
+        for (i, r) in self.rays.iter().enumerate() {
+            r.validate(&check.nested(&format!("rays[{i}]")))?;
+        }
+        self.knot_colour.validate(&check.nested("knot_colour"))?;
+        if let Some(f) = &self.figure {
+            f.validate(&check.nested("figure"))?;
+        }
+        if let Some(b) = &self.burl {
+            b.validate(&check.nested("burl"))?;
+        }
+        Ok(())
+    }
+}
+
+/// Millimetres to cube units (1 unit = `CM_PER_UNIT` cm).
+pub fn mm(value: f32) -> f32 {
+    value / (10.0 * CM_PER_UNIT)
+}
+
+/// `[low, high]` with lo <= low < high <= hi.
+pub(crate) fn check_interval(
+    check: &Checker,
+    key: &str,
+    v: [f32; 2],
+    lo: f32,
+    hi: f32,
+    meaning: &str,
+) -> Result<()> {
+    let [a, b] = v;
+    if a.is_finite() && b.is_finite() && lo <= a && a < b && b <= hi {
+        Ok(())
+    } else {
+        Err(check.error(
+            key,
+            format!("= [{a}, {b}]: expected [low, high] {meaning} with {lo} <= low < high <= {hi}"),
+        ))
+    }
+}
+
+/// A display-referred colour: three values in [0, 1].
+pub(crate) fn check_colour(check: &Checker, key: &str, c: [f32; 3]) -> Result<()> {
+    if c.iter().all(|v| v.is_finite() && (0.0..=1.0).contains(v)) {
+        Ok(())
+    } else {
+        Err(check.error(
+            key,
+            format!("= {c:?}: expected a colour [r, g, b] with values in [0, 1]"),
+        ))
+    }
+}
+
+/// Sizes in mm: every component finite, > 0 and at most `hi`.
+pub(crate) fn check_sizes<const N: usize>(
+    check: &Checker,
+    key: &str,
+    v: [f32; N],
+    hi: f32,
+    meaning: &str,
+) -> Result<()> {
+    if v.iter().all(|x| x.is_finite() && *x > 0.0 && *x <= hi) {
+        Ok(())
+    } else {
+        Err(check.error(
+            key,
+            format!("= {v:?}: expected {meaning} in mm, each > 0 and <= {hi}"),
+        ))
+    }
+}
