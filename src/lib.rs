@@ -12,6 +12,7 @@
 //! - [`image2`]: the float image type slices are returned in.
 //! - [`outputs`]: the standard set of faces, cuts and unfolded cross written for a texture.
 //! - [`render`]: lit renders of any solid texture on the cube or on a carved mesh.
+//! - [`report`]: comparison sheets, captioned render rows and the HTML report of a run.
 //! - [`export`]: volumes for other tools (Mitsuba `.vol`, NRRD, `.npy`).
 //! - [`io`]: PNG, NPY and TOML files, written atomically; output folders.
 //! - [`config`]: shared config loading and range checks.
@@ -33,6 +34,7 @@ pub mod outputs;
 pub mod presets;
 pub mod procedural;
 pub mod render;
+pub mod report;
 pub mod rng;
 pub mod sample;
 pub mod slice;

@@ -8,6 +8,7 @@ mod output_args;
 mod presets;
 mod procedural_cmd;
 mod render_cmd;
+mod report_cmd;
 mod sample_cmd;
 mod slice_cmd;
 mod texture_source;
@@ -32,6 +33,7 @@ pub enum Command {
     Field(field_cmd::FieldArgs),
     MeshBowl(mesh_cmd::MeshBowlArgs),
     Render(render_cmd::RenderArgs),
+    Report(report_cmd::ReportArgs),
     Procedural(procedural_cmd::ProceduralArgs),
     Sample(sample_cmd::SampleArgs),
     Slice(slice_cmd::SliceArgs),
@@ -44,6 +46,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Field(a) => field_cmd::run(a),
         Command::MeshBowl(a) => mesh_cmd::run(a),
         Command::Render(a) => render_cmd::run(a),
+        Command::Report(a) => report_cmd::run(a),
         Command::Procedural(a) => procedural_cmd::run(a),
         Command::Sample(a) => sample_cmd::run(a),
         Command::Slice(a) => slice_cmd::run(a),
