@@ -16,6 +16,7 @@
 //! - [`sample`]: sample folders in the Mokume layout (photos, ring images, knot markers).
 //! - [`rng`]: seeded, hash-based randomness (same seed, same output).
 //! - [`device`]: choosing burn's CPU device (flex or ndarray) at run time.
+//! - [`nca`]: the 3D neural cellular automaton: model, training on the faces, synthesis.
 
 pub mod config;
 pub mod device;
@@ -24,6 +25,7 @@ pub mod field;
 pub mod frame;
 pub mod image2;
 pub mod io;
+pub mod nca;
 pub mod outputs;
 pub mod presets;
 pub mod rng;

@@ -4,6 +4,8 @@ mod demo_cmd;
 mod field_cmd;
 mod presets;
 mod slice_cmd;
+mod synth_cmd;
+mod train_cmd;
 
 use clap::{Parser, Subcommand};
 
@@ -23,6 +25,8 @@ pub enum Command {
     Demo(demo_cmd::DemoArgs),
     Field(field_cmd::FieldArgs),
     Slice(slice_cmd::SliceArgs),
+    Train(train_cmd::TrainArgs),
+    Synth(synth_cmd::SynthArgs),
 }
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {
@@ -30,5 +34,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Demo(a) => demo_cmd::run(a),
         Command::Field(a) => field_cmd::run(a),
         Command::Slice(a) => slice_cmd::run(a),
+        Command::Train(a) => train_cmd::run(a),
+        Command::Synth(a) => synth_cmd::run(a),
     }
 }
