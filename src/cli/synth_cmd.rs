@@ -67,6 +67,9 @@ pub fn run(args: SynthArgs) -> Result<()> {
         &trained.meta,
         &args.model.display().to_string(),
     )?;
-    println!("wrote {}/volume.npy and its faces, cuts and unfolded.png", args.out.display());
+    println!(
+        "wrote {}/volume.npy and its faces, cuts and unfolded.png",
+        args.out.display()
+    );
     Ok(())
 }

@@ -8,13 +8,13 @@ use indicatif::{ProgressBar, ProgressStyle};
 use xylem::device::DeviceKind;
 use xylem::frame::Face;
 use xylem::io::OutputDir;
+use xylem::nca::TrainConfig;
 use xylem::nca::fit_source::{FIT_FILE, FitRecord, load_fit};
 use xylem::nca::loss::MomentLoss;
 use xylem::nca::model_dir::ModelMeta;
 use xylem::nca::session::{TrainOptions, run_training, saved_config};
 use xylem::nca::targets::photo_mean;
 use xylem::nca::train::TrainData;
-use xylem::nca::TrainConfig;
 use xylem::sample::{Needs, Sample, parse_faces};
 
 /// Train the 3D neural cellular automaton on the six (or fewer) face photos of a sample.
@@ -62,12 +62,19 @@ pub fn run(args: TrainArgs) -> Result<()> {
     let out = OutputDir::prepare(&args.out)?;
     let (config, source, fit, faces) = if args.resume {
         if args.config.is_some() || args.fit.is_some() || args.faces.is_some() {
-            bail!("--resume continues with the run's own train.toml, fit.toml and faces; drop --config, --fit and --faces");
+            bail!(
+                "--resume continues with the run's own train.toml, fit.toml and faces; drop --config, --fit and --faces"
+            );
         }
         let meta = ModelMeta::load(out.root())?;
         let fit = FitRecord::load(&out.path(FIT_FILE), None)?;
         let config = saved_config(out.root())?;
-        (config, "the resumed run's train.toml".to_string(), Some(fit), meta.faces)
+        (
+            config,
+            "the resumed run's train.toml".to_string(),
+            Some(fit),
+            meta.faces,
+        )
     } else {
         let Some(path) = &args.config else {
             bail!("--config is required (e.g. configs/nca/quick.toml)");
@@ -79,7 +86,12 @@ pub fn run(args: TrainArgs) -> Result<()> {
             Some(list) => parse_faces(list)?,
             None => Face::ALL.to_vec(),
         };
-        (TrainConfig::load(path)?, path.display().to_string(), None, faces)
+        (
+            TrainConfig::load(path)?,
+            path.display().to_string(),
+            None,
+            faces,
+        )
     };
     let needs = Needs {
         photos: true,

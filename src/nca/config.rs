@@ -276,7 +276,13 @@ impl TrainConfig {
             "crop side (at most volume.size)",
         )?;
         let s = check.nested("schedule");
-        s.count("iterations", self.schedule.iterations, 1, 1_000_000, "iterations")?;
+        s.count(
+            "iterations",
+            self.schedule.iterations,
+            1,
+            1_000_000,
+            "iterations",
+        )?;
         let [lo, hi] = self.schedule.steps;
         s.count("steps", lo, 1, 10_000, "the shortest unroll")?;
         if hi < lo || hi > 10_000 {
@@ -329,8 +335,19 @@ impl TrainConfig {
             "voxels per slab",
         )?;
         let c = check.nested("checkpoint");
-        c.positive("minutes", self.checkpoint.minutes, 1e4, "minutes between checkpoints")?;
-        c.count("every", self.checkpoint.every, 0, 1_000_000, "iterations between checkpoints")
+        c.positive(
+            "minutes",
+            self.checkpoint.minutes,
+            1e4,
+            "minutes between checkpoints",
+        )?;
+        c.count(
+            "every",
+            self.checkpoint.every,
+            0,
+            1_000_000,
+            "iterations between checkpoints",
+        )
     }
 
     /// Learning rate at `iteration` (0-based): multiplied by `decay_factor` at each

@@ -82,7 +82,10 @@ impl FitRecord {
     pub fn validate(&self, check: &Checker) -> Result<()> {
         self.field.validate(&check.nested("field"))?;
         let c = check.nested("base_colour");
-        for (key, rgb) in [("light", self.base_colour.light), ("dark", self.base_colour.dark)] {
+        for (key, rgb) in [
+            ("light", self.base_colour.light),
+            ("dark", self.base_colour.dark),
+        ] {
             for v in rgb {
                 c.range(key, v, 0.0, 1.0, "RGB components")?;
             }

@@ -50,7 +50,10 @@ impl MomentLoss {
     pub fn new(targets: &[Option<Image2>; 6], device: &Device) -> Self {
         let stats = |img: &Image2| {
             let t = image_tensor(img, device);
-            SCALES.iter().map(|&s| moments(pool(t.clone(), s))).collect()
+            SCALES
+                .iter()
+                .map(|&s| moments(pool(t.clone(), s)))
+                .collect()
         };
         Self {
             targets: std::array::from_fn(|f| targets[f].as_ref().map(stats)),
@@ -80,7 +83,10 @@ impl FaceLoss for MomentLoss {
         match terms.into_iter().reduce(|a, b| a + b) {
             Some(sum) => sum.div_scalar(count),
             None => {
-                let device = patches.first().map(|p| p.image.device()).unwrap_or_default();
+                let device = patches
+                    .first()
+                    .map(|p| p.image.device())
+                    .unwrap_or_default();
                 Tensor::zeros([1], &device)
             }
         }
@@ -132,7 +138,10 @@ fn moments(img: Tensor<3>) -> Moments {
     let f = features.reshape([FEATURES, p]);
     let mean = f.clone().mean_dim(1); // [5, 1]
     let centred = f - mean.clone();
-    let cov = centred.clone().matmul(centred.transpose()).div_scalar(p as f32); // [5, 5]
+    let cov = centred
+        .clone()
+        .matmul(centred.transpose())
+        .div_scalar(p as f32); // [5, 5]
     Moments {
         mean: mean.reshape([FEATURES]),
         cov,

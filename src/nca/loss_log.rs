@@ -63,7 +63,11 @@ pub fn read_csv(path: &Path) -> Result<Vec<LossRow>> {
             if f.len() != 6 {
                 return Err(bad(n, "wrong number of columns"));
             }
-            let num = |i: usize| f[i].trim().parse::<f64>().map_err(|_| bad(n, "not a number"));
+            let num = |i: usize| {
+                f[i].trim()
+                    .parse::<f64>()
+                    .map_err(|_| bad(n, "not a number"))
+            };
             Ok(LossRow {
                 iteration: num(0)? as usize,
                 steps: num(1)? as usize,

@@ -66,7 +66,8 @@ pub fn load_weights(spec: &ModelSpec, path: &Path, device: &Device) -> Result<Nc
             format!("not a burnpack model of this architecture: {e}"),
         )
     };
-    let record = ModuleRecord::from_bytes(Bytes::from_bytes_vec(bytes)).map_err(|e| bad(format!("{e:?}")))?;
+    let record = ModuleRecord::from_bytes(Bytes::from_bytes_vec(bytes))
+        .map_err(|e| bad(format!("{e:?}")))?;
     let model = Nca::init(spec, 0, device)
         .try_load_record(record)
         .map_err(|e| bad(format!("{e:?}")))?;

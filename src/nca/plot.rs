@@ -18,7 +18,12 @@ pub fn loss_plot(values: &[f32], width: usize, height: usize) -> Image2 {
         return img;
     }
     let lo = logs.iter().copied().fold(f32::INFINITY, f32::min).floor();
-    let hi = logs.iter().copied().fold(f32::NEG_INFINITY, f32::max).ceil().max(lo + 1.0);
+    let hi = logs
+        .iter()
+        .copied()
+        .fold(f32::NEG_INFINITY, f32::max)
+        .ceil()
+        .max(lo + 1.0);
     let (pw, ph) = (width - 2 * MARGIN, height - 2 * MARGIN);
     let to_row = |l: f32| MARGIN + ((hi - l) / (hi - lo) * (ph - 1) as f32).round() as usize;
     let to_col = |i: usize| MARGIN + i * (pw - 1) / logs.len().saturating_sub(1).max(1);

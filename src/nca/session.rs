@@ -83,7 +83,8 @@ pub fn run_training(
             ));
         }
         write_config_copy(&out.path(CONFIG_FILE), config, config_source)?;
-        data.fit.save(&out.path(FIT_FILE), "the fit given to xylem train")?;
+        data.fit
+            .save(&out.path(FIT_FILE), "the fit given to xylem train")?;
         meta(0).save(root)?;
         Vec::new()
     };

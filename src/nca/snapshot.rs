@@ -86,7 +86,11 @@ pub fn save(root: &Path, trainer: &Trainer, rows: &[LossRow]) -> Result<()> {
         pool_regions: regions,
         state_dims,
     };
-    write_config_copy(&tmp.join("progress.toml"), &progress, "xylem train checkpoint")?;
+    write_config_copy(
+        &tmp.join("progress.toml"),
+        &progress,
+        "xylem train checkpoint",
+    )?;
     write_csv(&tmp.join("loss.csv"), rows)?;
     if dir.exists() {
         if old.exists() {
@@ -118,7 +122,11 @@ pub fn load(root: &Path, trainer: &mut Trainer) -> Result<Vec<LossRow>> {
     };
     let progress: Progress = load_toml(&dir.join("progress.toml"))?;
     let spec = trainer.config.model.clone();
-    trainer.model = load_weights(&spec, &dir.join("model.bpk"), &trainer.kind.autodiff_device())?;
+    trainer.model = load_weights(
+        &spec,
+        &dir.join("model.bpk"),
+        &trainer.kind.autodiff_device(),
+    )?;
     let path = dir.join("optimiser.bpk");
     let bytes = fs::read(&path).map_err(io(&path))?;
     trainer.optimiser = adam()
@@ -127,7 +135,8 @@ pub fn load(root: &Path, trainer: &mut Trainer) -> Result<Vec<LossRow>> {
     let pool_path = dir.join("pool.npy");
     let (shape, values) = read_npy(&pool_path)?;
     let per = progress.state_dims.iter().product::<usize>();
-    if shape.len() != 5 || shape[0] != progress.pool_regions.len() || values.len() != shape[0] * per {
+    if shape.len() != 5 || shape[0] != progress.pool_regions.len() || values.len() != shape[0] * per
+    {
         return Err(XylemError::input(
             pool_path.display().to_string(),
             format!(

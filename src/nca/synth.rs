@@ -11,11 +11,11 @@
 
 use burn::tensor::Device;
 
+use super::model::StepInputs;
 use super::model_dir::TrainedModel;
 use super::region::Region;
 use super::targets::to_photo_colour;
 use super::tensors::tensor_to_volume;
-use super::model::StepInputs;
 use super::unroll::{seed_state, unroll};
 use crate::error::Result;
 use crate::volume::Volume;

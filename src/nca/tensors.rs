@@ -10,7 +10,11 @@ use crate::error::{Result, XylemError};
 use crate::volume::Volume;
 
 /// A tensor of `shape` from row-major data.
-pub fn tensor_from<const D: usize>(data: Vec<f32>, shape: [usize; D], device: &Device) -> Tensor<D> {
+pub fn tensor_from<const D: usize>(
+    data: Vec<f32>,
+    shape: [usize; D],
+    device: &Device,
+) -> Tensor<D> {
     Tensor::from_data(TensorData::new(data, shape), device)
 }
 

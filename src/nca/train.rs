@@ -194,8 +194,8 @@ fn region_inputs(
 ) -> RegionInputs {
     let vols = data.conditioning.sample(&region);
     let channels = &cfg.model.conditioning;
-    let cond = (!channels.is_empty())
-        .then(|| data.normalisation.cond_tensor(channels, &vols, device));
+    let cond =
+        (!channels.is_empty()).then(|| data.normalisation.cond_tensor(channels, &vols, device));
     let step = StepInputs::new(cond, region.positions(device), cfg.model.perception);
     let colour = data.normalisation.colour_tensor(&vols, device);
     let colour_faces = face_patches(&colour, &region, &data.faces);
