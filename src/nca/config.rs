@@ -20,6 +20,7 @@ use crate::error::Result;
 pub struct TrainConfig {
     /// Seed of every random choice (initial weights, seeds, steps, crops, pool).
     pub seed: u64,
+    #[serde(default)]
     pub model: ModelSpec,
     pub volume: VolumeConfig,
     pub schedule: ScheduleConfig,
