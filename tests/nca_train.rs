@@ -90,6 +90,11 @@ fn shipped_configs_load() {
         let cfg = TrainConfig::load(&path).unwrap();
         assert_eq!(cfg.model.inputs(), 73, "{name}");
     }
+    let cfg = TrainConfig::load(&repo("configs/nca/default.toml")).unwrap();
+    assert_eq!(cfg.model.parameters(), 73 * 128 + 128 + 128 * 12);
+    for (it, lr) in [(0, 1e-3), (699, 1e-3), (700, 3e-4), (1200, 9e-5)] {
+        assert!((cfg.learning_rate(it) - lr).abs() < 1e-12, "iteration {it}");
+    }
     let bad = "seed = 1\n[volume]\nsize = 16\ncrop = 32\n[schedule]\niterations = 3\nsteps = [4, 2]\n[pool]\nsize = 0\n";
     let err = TrainConfig::parse(bad, Path::new("bad.toml"))
         .unwrap_err()

@@ -36,10 +36,15 @@ pub fn loss_plot(values: &[f32], width: usize, height: usize) -> Image2 {
         decade += 1.0;
     }
     for (i, &l) in logs.iter().enumerate() {
-        img.pixel_mut(to_row(l), to_col(i))
-            .copy_from_slice(&[0.65, 0.65, 0.65]);
+        let (r, c) = (to_row(l), to_col(i));
+        for (dr, dc) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+            if r + dr < height && c + dc < width {
+                img.pixel_mut(r + dr, c + dc)
+                    .copy_from_slice(&[0.6, 0.6, 0.6]);
+            }
+        }
     }
-    let window = (logs.len() / 50).max(1);
+    let window = (logs.len() / 20).max(1);
     let mut prev: Option<(usize, usize)> = None;
     for i in 0..logs.len() {
         let from = i.saturating_sub(window - 1);
