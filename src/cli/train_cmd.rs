@@ -59,6 +59,13 @@ pub struct TrainArgs {
 }
 
 pub fn run(args: TrainArgs) -> Result<()> {
+    if args.resume && !xylem::nca::snapshot::exists(&args.out) {
+        bail!(
+            "--resume: {} holds no checkpoint of a training run (expected {}/checkpoint/)",
+            args.out.display(),
+            args.out.display()
+        );
+    }
     let out = OutputDir::prepare(&args.out)?;
     let (config, source, fit, faces) = if args.resume {
         if args.config.is_some() || args.fit.is_some() || args.faces.is_some() {

@@ -40,7 +40,7 @@ pub fn loss_plot(values: &[f32], width: usize, height: usize) -> Image2 {
         for (dr, dc) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
             if r + dr < height && c + dc < width {
                 img.pixel_mut(r + dr, c + dc)
-                    .copy_from_slice(&[0.6, 0.6, 0.6]);
+                    .copy_from_slice(&[0.5, 0.5, 0.5]);
             }
         }
     }

@@ -71,6 +71,17 @@ struct RegionInputs {
     colour_faces: Vec<FacePatch>,
 }
 
+/// What an iteration starts from.
+struct Draw {
+    steps: usize,
+    /// Index into the trainer's regions.
+    region: usize,
+    /// `[C, X, Y, Z]`, no autodiff.
+    start: Tensor<4>,
+    /// The pool slot the result is written back to.
+    slot: Option<usize>,
+}
+
 /// The training state: model, optimiser, pool, iteration.
 pub struct Trainer {
     pub config: TrainConfig,
@@ -126,24 +137,22 @@ impl Trainer {
         self.model.valid()
     }
 
-    /// Runs iteration `self.iteration` and returns its log row.
-    pub fn iterate(&mut self, loss: &dyn FaceLoss) -> LossRow {
+    /// The random choices of iteration `it`: unroll length, region, start state, pool slot.
+    fn draw(&self, it: usize) -> Draw {
         let cfg = &self.config;
-        let it = self.iteration;
         let mut rng = Rng::substream(cfg.seed ^ TRAIN_STREAM, it as u64);
         let [lo, hi] = cfg.schedule.steps;
         let steps = lo + rng.below(hi - lo + 1);
-        let draw = rng.below(self.pool.len().max(1));
+        let slot_draw = rng.below(self.pool.len().max(1));
         let region_draw = rng.below(self.regions.len());
         let seed_key = rng.next_u64();
         let fresh = it % cfg.pool.fresh_every == 0;
-        let (region_index, start, slot) = match self.pool.start(draw, fresh) {
+        let (region, start, slot) = match self.pool.start(slot_draw, fresh) {
             Start::Fresh { slot } => {
-                let region = &self.regions[region_draw].region;
                 let seed = seed_state(
                     cfg.model.state_channels,
                     cfg.model.seed_amplitude,
-                    region,
+                    &self.regions[region_draw].region,
                     seed_key,
                     &self.device,
                 );
@@ -151,6 +160,24 @@ impl Trainer {
             }
             Start::Continue { slot, from } => (from.region, from.state, Some(slot)),
         };
+        Draw {
+            steps,
+            region,
+            start,
+            slot,
+        }
+    }
+
+    /// Runs iteration `self.iteration` and returns its log row.
+    pub fn iterate(&mut self, loss: &dyn FaceLoss) -> LossRow {
+        let it = self.iteration;
+        let Draw {
+            steps,
+            region: region_index,
+            start,
+            slot,
+        } = self.draw(it);
+        let cfg = &self.config;
         let inputs = &self.regions[region_index];
         let overflow_weight = cfg.loss.overflow;
         let out = unroll_gradients(
