@@ -13,7 +13,8 @@
 //! per second. `train` runs ITERS (default 3) training iterations of `nca::train::Trainer`
 //! (unroll, stand-in face loss + overflow, backward, gradient normalisation, Adam) after one
 //! warm-up iteration and prints the mean seconds per iteration. Peak memory: run under
-//! `/usr/bin/time -v` (one configuration per process).
+//! `/usr/bin/time -v` (one configuration per process). Denormals are flushed to zero as in
+//! the CLI (`nca::denormals`); set `XYLEM_KEEP_DENORMALS=1` to measure without.
 
 use std::time::Instant;
 
@@ -44,6 +45,10 @@ fn perception(name: &str) -> PerceptionImpl {
 }
 
 fn main() {
+    // As `xylem train` and `xylem synth` do; XYLEM_KEEP_DENORMALS=1 measures without.
+    if std::env::var_os("XYLEM_KEEP_DENORMALS").is_none() {
+        xylem::nca::denormals::flush_denormals_to_zero();
+    }
     let args: Vec<String> = std::env::args().skip(1).collect();
     let mode = args.first().map(String::as_str).unwrap_or("unroll");
     let size: usize = arg(&args, 1, 64);

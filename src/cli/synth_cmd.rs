@@ -44,6 +44,7 @@ pub struct SynthArgs {
 }
 
 pub fn run(args: SynthArgs) -> Result<()> {
+    xylem::nca::denormals::flush_denormals_to_zero();
     let device = args.device.device();
     let trained = TrainedModel::load(&args.model, &device)?;
     let out = OutputDir::prepare(&args.out)?;

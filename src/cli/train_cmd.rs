@@ -66,6 +66,7 @@ pub fn run(args: TrainArgs) -> Result<()> {
             args.out.display()
         );
     }
+    xylem::nca::denormals::flush_denormals_to_zero();
     let out = OutputDir::prepare(&args.out)?;
     let (config, source, fit, faces) = if args.resume {
         if args.config.is_some() || args.fit.is_some() || args.faces.is_some() {

@@ -18,6 +18,8 @@
 //! - [`conditioning`]: B and G as solid textures, sampled into conditioning channels.
 //! - [`fit_source`]: where B and G come from (a stand-in until the fit of issue 4 lands; the
 //!   one place it plugs in).
+//! - [`denormals`]: flush-to-zero on the compute threads (denormals made long backward
+//!   passes 2x slower).
 //! - [`perception`]: the fixed depthwise filters, as shifted slices or as `conv3d`.
 //! - [`model`]: the burn `Module` (the MLP) and one update step.
 //! - [`unroll`]: many steps, slab by slab for large volumes, seeds.
@@ -38,6 +40,7 @@
 pub mod checkpoint;
 pub mod conditioning;
 pub mod config;
+pub mod denormals;
 pub mod faces;
 pub mod fit_source;
 pub mod loss;
