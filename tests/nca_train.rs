@@ -4,6 +4,9 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+mod common;
+use common::scratch;
+
 use xylem::Image2;
 use xylem::device::DeviceKind;
 use xylem::field::{GrowthField, ring_intensity};
@@ -21,12 +24,6 @@ use xylem::presets::load_field_preset;
 use xylem::rng::hash3;
 use xylem::sample::{Needs, Sample};
 use xylem::slice::slice_face;
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("xylem-nca-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
-}
 
 fn repo(path: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
