@@ -21,6 +21,7 @@
 //! - [`device`]: choosing burn's CPU device (flex or ndarray) at run time.
 //! - [`procedural`]: the procedural wood model (rings, pores, rays, fibres, knots, figure,
 //!   burl) and synthetic sample cubes made from species presets.
+//! - [`nca`]: the 3D neural cellular automaton: model, training on the faces, synthesis.
 
 pub mod config;
 pub mod device;
@@ -30,6 +31,7 @@ pub mod field;
 pub mod frame;
 pub mod image2;
 pub mod io;
+pub mod nca;
 pub mod outputs;
 pub mod presets;
 pub mod procedural;

@@ -11,7 +11,9 @@ mod render_cmd;
 mod report_cmd;
 mod sample_cmd;
 mod slice_cmd;
+mod synth_cmd;
 mod texture_source;
+mod train_cmd;
 
 use clap::{Parser, Subcommand};
 
@@ -37,6 +39,8 @@ pub enum Command {
     Procedural(procedural_cmd::ProceduralArgs),
     Sample(sample_cmd::SampleArgs),
     Slice(slice_cmd::SliceArgs),
+    Train(train_cmd::TrainArgs),
+    Synth(synth_cmd::SynthArgs),
 }
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {
@@ -50,5 +54,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Procedural(a) => procedural_cmd::run(a),
         Command::Sample(a) => sample_cmd::run(a),
         Command::Slice(a) => slice_cmd::run(a),
+        Command::Train(a) => train_cmd::run(a),
+        Command::Synth(a) => synth_cmd::run(a),
     }
 }

@@ -1,0 +1,76 @@
+//! `xylem synth`: unroll a trained NCA into a colour volume and its standard images.
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+use xylem::config::write_config_copy;
+use xylem::device::DeviceKind;
+use xylem::io::OutputDir;
+use xylem::io::npy::write_volume;
+use xylem::nca::model_dir::TrainedModel;
+use xylem::nca::synth::{SynthOptions, synthesise};
+use xylem::outputs::SliceSet;
+
+/// Synthesise a solid texture with a trained NCA: the volume, its faces, cuts and cross.
+#[derive(Args, Debug)]
+#[command(after_help = "Example:
+  xylem synth --model out/cn03-nca --size 128 --steps 48 --out out/cn03-synth
+
+Writes DIR/volume.npy (float32 [N, N, N, 3], RGB in [0, 1], axes x, y, z as every xylem
+volume), DIR/faces/A.png..F.png, DIR/cuts/cut1.png, DIR/cuts/cut2.png, DIR/unfolded.png
+and DIR/model.toml (the model's description). The texture scale is per voxel: a --size other
+than the training grid scales pores and rays with it.")]
+pub struct SynthArgs {
+    /// Folder written by `xylem train`.
+    #[arg(long)]
+    pub model: PathBuf,
+    /// Volume side in voxels (default: the training grid).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(4..=1024))]
+    pub size: Option<u32>,
+    /// Unroll steps.
+    #[arg(long, default_value_t = 48)]
+    pub steps: usize,
+    /// Seed of the initial state (default: the training seed).
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Output folder.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// CPU backend.
+    #[arg(long, default_value = "flex")]
+    pub device: DeviceKind,
+}
+
+pub fn run(args: SynthArgs) -> Result<()> {
+    xylem::nca::denormals::flush_denormals_to_zero();
+    let device = args.device.device();
+    let trained = TrainedModel::load(&args.model, &device)?;
+    let out = OutputDir::prepare(&args.out)?;
+    let size = args.size.map_or(trained.meta.grid, |s| s as usize);
+    let options = SynthOptions {
+        size,
+        steps: args.steps,
+        seed: args.seed.unwrap_or(trained.meta.seed),
+        slab_voxels: 1 << 18,
+    };
+    let bar = ProgressBar::new(args.steps as u64).with_style(
+        ProgressStyle::with_template("unroll {bar:30} {pos}/{len} steps {per_sec} ETA {eta}")?
+            .progress_chars("=> "),
+    );
+    let volume = synthesise(&trained, &options, &device, |s| bar.set_position(s as u64))?;
+    bar.finish();
+    write_volume(&out.path("volume.npy"), &volume)?;
+    SliceSet::render(&volume, size).write(&out, "")?;
+    write_config_copy(
+        &out.path("model.toml"),
+        &trained.meta,
+        &args.model.display().to_string(),
+    )?;
+    println!(
+        "wrote {}/volume.npy and its faces, cuts and unfolded.png",
+        args.out.display()
+    );
+    Ok(())
+}

@@ -1,0 +1,163 @@
+//! `xylem train`: train the NCA on a sample's faces, conditioned on its fit.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+use xylem::device::DeviceKind;
+use xylem::frame::Face;
+use xylem::io::OutputDir;
+use xylem::nca::TrainConfig;
+use xylem::nca::fit_source::{FIT_FILE, FitRecord, load_fit};
+use xylem::nca::loss::MomentLoss;
+use xylem::nca::model_dir::ModelMeta;
+use xylem::nca::session::{TrainOptions, run_training, saved_config};
+use xylem::nca::targets::photo_mean;
+use xylem::nca::train::TrainData;
+use xylem::sample::{Needs, Sample, parse_faces};
+
+/// Train the 3D neural cellular automaton on the six (or fewer) face photos of a sample.
+#[derive(Args, Debug)]
+#[command(after_help = "Examples:
+  xylem train --sample ../shared/data/mokume/CN03 --fit fit.toml \\
+      --config configs/nca/quick.toml --out out/cn03-nca
+  xylem train --sample S --fit fit.toml --config configs/nca/default.toml --out OUT --faces A,B,C,D,E
+  xylem train --sample S --out OUT --resume        # continue a killed run
+
+--fit: the growth field and base colour. Until the fit stage is merged this is a stand-in:
+a field config (configs/fields/*.toml; base colour = a ring ramp in the photos' colours),
+a stand-in fit file ([field] + [base_colour] light/dark), or a folder holding fit.toml.
+
+Writes OUT/model.bpk, OUT/model.toml, OUT/fit.toml, OUT/train.toml (the config used),
+OUT/loss.csv, OUT/loss.png, and OUT/checkpoint/ every few minutes (checkpoint.minutes).")]
+pub struct TrainArgs {
+    /// Sample folder (A_col.png .. F_col.png).
+    #[arg(long)]
+    pub sample: PathBuf,
+    /// The fit giving B and G (see below). Not needed with --resume.
+    #[arg(long)]
+    pub fit: Option<PathBuf>,
+    /// Training config (TOML, see configs/nca/). Not needed with --resume.
+    #[arg(long)]
+    pub config: Option<PathBuf>,
+    /// Output folder (the trained model).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// CPU backend.
+    #[arg(long, default_value = "flex")]
+    pub device: DeviceKind,
+    /// Continue the run in --out from its last checkpoint (its own train.toml and fit.toml).
+    #[arg(long)]
+    pub resume: bool,
+    /// Faces to train on, e.g. A,B,C,D,E to leave F out (default: all six).
+    #[arg(long)]
+    pub faces: Option<String>,
+    /// Stop after this many iterations without finishing, as if killed (for testing --resume).
+    #[arg(long, hide = true)]
+    pub stop_after: Option<usize>,
+}
+
+pub fn run(args: TrainArgs) -> Result<()> {
+    if args.resume && !xylem::nca::snapshot::exists(&args.out) {
+        bail!(
+            "--resume: {} holds no checkpoint of a training run (expected {}/checkpoint/)",
+            args.out.display(),
+            args.out.display()
+        );
+    }
+    xylem::nca::denormals::flush_denormals_to_zero();
+    let out = OutputDir::prepare(&args.out)?;
+    let (config, source, fit, faces) = if args.resume {
+        if args.config.is_some() || args.fit.is_some() || args.faces.is_some() {
+            bail!(
+                "--resume continues with the run's own train.toml, fit.toml and faces; drop --config, --fit and --faces"
+            );
+        }
+        let meta = ModelMeta::load(out.root())?;
+        let fit = FitRecord::load(&out.path(FIT_FILE), None)?;
+        let config = saved_config(out.root())?;
+        (
+            config,
+            "the resumed run's train.toml".to_string(),
+            Some(fit),
+            meta.faces,
+        )
+    } else {
+        let Some(path) = &args.config else {
+            bail!("--config is required (e.g. configs/nca/quick.toml)");
+        };
+        if args.fit.is_none() {
+            bail!("--fit is required (a field config or fit file; see --help)");
+        }
+        let faces = match &args.faces {
+            Some(list) => parse_faces(list)?,
+            None => Face::ALL.to_vec(),
+        };
+        (
+            TrainConfig::load(path)?,
+            path.display().to_string(),
+            None,
+            faces,
+        )
+    };
+    let needs = Needs {
+        photos: true,
+        arl: false,
+    };
+    let sample = Sample::load(&args.sample, &faces, needs)?;
+    let fit = match fit {
+        Some(f) => f,
+        None => {
+            let fit_path = args.fit.as_ref().expect("checked above");
+            load_fit(fit_path, photo_mean(&sample))?
+        }
+    };
+    let data = TrainData::prepare(&sample, fit, config.volume.size);
+    let loss = MomentLoss::new(&data.targets, &args.device.device());
+    let total = config.schedule.iterations as u64;
+    let bar = ProgressBar::new(total).with_style(
+        ProgressStyle::with_template(
+            "{bar:30} {pos}/{len} loss {msg} {per_sec} elapsed {elapsed} ETA {eta}",
+        )?
+        .progress_chars("=> "),
+    );
+    let options = TrainOptions {
+        resume: args.resume,
+        stop_after: args.stop_after,
+    };
+    let mut first = true;
+    let outcome = run_training(
+        &out,
+        &config,
+        &source,
+        &data,
+        args.device,
+        &loss,
+        &options,
+        &mut |row| {
+            if first {
+                bar.set_position(row.iteration as u64);
+                bar.reset_eta();
+                first = false;
+            }
+            bar.set_message(format!("{:.4}", row.loss));
+            bar.set_position(row.iteration as u64 + 1);
+        },
+    )
+    .with_context(|| format!("training into {}", args.out.display()))?;
+    bar.finish();
+    if outcome.finished {
+        println!(
+            "trained {} iterations; model in {} (model.bpk, loss.png)",
+            outcome.iterations,
+            args.out.display()
+        );
+    } else {
+        println!(
+            "stopped after {} iterations; continue with --resume",
+            outcome.iterations
+        );
+    }
+    Ok(())
+}

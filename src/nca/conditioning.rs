@@ -1,0 +1,187 @@
+//! The conditioning of the NCA: base colour B and growth field G, as solid textures sampled
+//! at the voxel centres of a region, turned into the channels the network perceives.
+//!
+//! Decision (DESIGN section 6 allows grey or RGB B): the default is the authors' two channels,
+//! grey B - 0.5 and normalised G - 0.5, because
+//! - the colour of B already reaches the output (RGB = B + state[0..3]); the network only
+//!   needs to know *where in the ring* a voxel is, and the lightness of B says that (early /
+//!   late wood), which normalised G cannot (a 128-wide ReLU layer cannot compute frac(G) over
+//!   dozens of rings);
+//! - RGB B costs 10 more inputs (83 instead of 73, +14% in the first layer) for colour the
+//!   output already has.
+//!
+//! The other channels stay selectable (`model.conditioning` in the config) for the later
+//! quality study: `rgb_b` (B - 0.5, 3 channels) and `ring_phase` (cos and sin of 2 pi G,
+//! halved: the ring phase from the field itself). An empty list is the position-only
+//! ablation.
+//!
+//! Colours: the NCA works in white-balanced space, where each face photo is divided by twice
+//! its mean colour (DESIGN section 6) so every target has mean 0.5. B is brought into the same
+//! space with one factor for the whole sample (`white_balance` = 1 / (2 x mean colour of the
+//! used photos)); synthesis divides by it again to return to photo colours.
+
+use std::sync::Arc;
+
+use burn::tensor::{Device, Tensor};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use super::region::Region;
+use super::tensors::tensor_from;
+use crate::texture::SolidTexture;
+use crate::volume::Volume;
+
+/// One kind of conditioning input.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CondChannel {
+    /// Lightness of white-balanced B, minus 0.5 (1 channel).
+    GreyB,
+    /// White-balanced B minus 0.5 (3 channels).
+    RgbB,
+    /// G normalised to [0, 1] over the cube, minus 0.5 (1 channel).
+    G,
+    /// 0.5 cos(2 pi G), 0.5 sin(2 pi G) (2 channels).
+    RingPhase,
+}
+
+impl CondChannel {
+    /// Number of tensor channels.
+    pub fn width(self) -> usize {
+        match self {
+            CondChannel::GreyB | CondChannel::G => 1,
+            CondChannel::RgbB => 3,
+            CondChannel::RingPhase => 2,
+        }
+    }
+}
+
+/// B and G of a sample as solid textures.
+#[derive(Clone)]
+pub struct Conditioning {
+    /// G in years (1 channel).
+    pub growth: Arc<dyn SolidTexture>,
+    /// B in photo colours, RGB in [0, 1] (3 channels).
+    pub colour: Arc<dyn SolidTexture>,
+}
+
+/// How raw B and G are scaled into conditioning channels; fixed at training time and stored
+/// with the model so synthesis sees the same numbers.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Normalisation {
+    /// G at the low and high end of the cube (mapped to 0 and 1).
+    pub g_range: [f32; 2],
+    /// Per-channel factor from photo colours to white-balanced colours.
+    pub white_balance: [f32; 3],
+}
+
+/// G (1 channel) and B (3 channels) at the voxel centres of a region, `[X, Y, Z, C]`.
+pub struct CondVolumes {
+    pub g: Volume,
+    pub b: Volume,
+}
+
+/// Grid side on which the range of G over the cube is measured.
+const G_RANGE_GRID: usize = 32;
+
+impl Conditioning {
+    /// Samples G and B at the voxel centres of `region` (in parallel).
+    pub fn sample(&self, region: &Region) -> CondVolumes {
+        CondVolumes {
+            g: sample_region(self.growth.as_ref(), region),
+            b: sample_region(self.colour.as_ref(), region),
+        }
+    }
+
+    /// The normalisation for this sample: range of G over a 32^3 grid of the cube, and the
+    /// white balance of the photos' mean colour.
+    pub fn normalisation(&self, photo_mean: [f32; 3]) -> Normalisation {
+        let g = Volume::from_texture(self.growth.as_ref(), G_RANGE_GRID);
+        let lo = g.data.iter().copied().fold(f32::INFINITY, f32::min);
+        let hi = g.data.iter().copied().fold(f32::NEG_INFINITY, f32::max);
+        Normalisation {
+            g_range: [lo, hi.max(lo + 1e-6)],
+            white_balance: photo_mean.map(|m| 0.5 / m.max(1e-4)),
+        }
+    }
+}
+
+/// A texture evaluated at every voxel centre of a region.
+fn sample_region(texture: &dyn SolidTexture, region: &Region) -> Volume {
+    let c = texture.channels();
+    let [_, dy, dz] = region.dims;
+    let mut data = vec![0.0f32; region.voxels() * c];
+    data.par_chunks_mut(dy * dz * c)
+        .enumerate()
+        .for_each(|(i, slab)| {
+            for j in 0..dy {
+                for k in 0..dz {
+                    let o = (j * dz + k) * c;
+                    texture.eval(region.voxel_point(i, j, k), &mut slab[o..o + c]);
+                }
+            }
+        });
+    Volume {
+        dims: region.dims,
+        channels: c,
+        data,
+    }
+}
+
+impl Normalisation {
+    /// White-balanced B, `[3, X, Y, Z]`: what the state's RGB residual is added to.
+    pub fn colour_tensor(&self, vols: &CondVolumes, device: &Device) -> Tensor<4> {
+        let n = vols.b.dims.iter().product::<usize>();
+        let mut data = vec![0.0f32; 3 * n];
+        for (v, rgb) in vols.b.data.chunks_exact(3).enumerate() {
+            for c in 0..3 {
+                data[c * n + v] = rgb[c] * self.white_balance[c];
+            }
+        }
+        let [x, y, z] = vols.b.dims;
+        tensor_from(data, [3, x, y, z], device)
+    }
+
+    /// The conditioning channels `[K, X, Y, Z]` in the order of `channels`.
+    pub fn cond_tensor(
+        &self,
+        channels: &[CondChannel],
+        vols: &CondVolumes,
+        device: &Device,
+    ) -> Tensor<4> {
+        let n = vols.g.dims.iter().product::<usize>();
+        let width: usize = channels.iter().map(|c| c.width()).sum();
+        let mut data = vec![0.0f32; width * n];
+        let span = self.g_range[1] - self.g_range[0];
+        let mut base = 0;
+        for &channel in channels {
+            for v in 0..n {
+                let g = vols.g.data[v];
+                let rgb = &vols.b.data[3 * v..3 * v + 3];
+                let wb = |c: usize| rgb[c] * self.white_balance[c];
+                match channel {
+                    CondChannel::GreyB => {
+                        data[base * n + v] = (wb(0) + wb(1) + wb(2)) / 3.0 - 0.5;
+                    }
+                    CondChannel::RgbB => {
+                        for c in 0..3 {
+                            data[(base + c) * n + v] = wb(c) - 0.5;
+                        }
+                    }
+                    CondChannel::G => {
+                        data[base * n + v] = (g - self.g_range[0]) / span - 0.5;
+                    }
+                    CondChannel::RingPhase => {
+                        let phase = std::f32::consts::TAU * g;
+                        data[base * n + v] = 0.5 * phase.cos();
+                        data[(base + 1) * n + v] = 0.5 * phase.sin();
+                    }
+                }
+            }
+            base += channel.width();
+        }
+        let [x, y, z] = vols.g.dims;
+        tensor_from(data, [width, x, y, z], device)
+    }
+}

@@ -1,0 +1,365 @@
+//! The NCA training config (`configs/nca/default.toml`, `configs/nca/quick.toml`).
+//!
+//! Plain serde structs (unknown keys are errors), every value range-checked by
+//! [`TrainConfig::validate`] with messages naming the key. The model's architecture
+//! ([`ModelSpec`]) is its own table because the trained-model folder stores it again: a
+//! model can only be loaded with the architecture it was trained with.
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use super::conditioning::CondChannel;
+use super::perception::PerceptionImpl;
+use crate::config::{Checker, load_toml, parse_toml};
+use crate::error::Result;
+
+/// Everything `xylem train` needs besides the sample and the fit.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrainConfig {
+    /// Seed of every random choice (initial weights, seeds, steps, crops, pool).
+    pub seed: u64,
+    #[serde(default)]
+    pub model: ModelSpec,
+    pub volume: VolumeConfig,
+    pub schedule: ScheduleConfig,
+    pub pool: PoolConfig,
+    #[serde(default)]
+    pub loss: LossWeights,
+    #[serde(default)]
+    pub memory: MemoryConfig,
+    #[serde(default)]
+    pub checkpoint: CheckpointConfig,
+}
+
+/// The network: state size, hidden width, conditioning, perception implementation.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModelSpec {
+    /// State channels per voxel; the first three are the RGB residual on B.
+    #[serde(default = "default_state_channels")]
+    pub state_channels: usize,
+    /// Width of the hidden layer of the update MLP.
+    #[serde(default = "default_hidden")]
+    pub hidden: usize,
+    /// Conditioning channels, in order (empty: position only, the ablation).
+    #[serde(default = "default_conditioning")]
+    pub conditioning: Vec<CondChannel>,
+    /// How the depthwise filters are computed (same result; speed differs by backend).
+    #[serde(default)]
+    pub perception: PerceptionImpl,
+    /// Amplitude of the uniform seed state, [-a, a].
+    #[serde(default = "default_seed_amplitude")]
+    pub seed_amplitude: f32,
+}
+
+/// The training grid and the part of it each iteration unrolls.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VolumeConfig {
+    /// Side of the training volume in voxels; the face photos are resampled to size x size,
+    /// so one voxel is 4 cm / size.
+    pub size: usize,
+    /// Side of the corner crops trained on (each touches three faces). `crop = size` trains
+    /// the whole volume against all six faces.
+    pub crop: usize,
+}
+
+/// Iterations, unroll lengths and the learning-rate schedule.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ScheduleConfig {
+    pub iterations: usize,
+    /// Unroll length per iteration, drawn uniformly from [min, max].
+    pub steps: [usize; 2],
+    /// Adam learning rate at the start.
+    #[serde(default = "default_lr")]
+    pub learning_rate: f64,
+    /// Iterations at which the learning rate is multiplied by `decay_factor`.
+    #[serde(default)]
+    pub decay_at: Vec<usize>,
+    #[serde(default = "default_decay_factor")]
+    pub decay_factor: f64,
+}
+
+/// The pool of states (Mordvintsev et al.): iterations continue from earlier results so the
+/// NCA learns to keep a stable texture over long unrolls.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PoolConfig {
+    /// Number of stored states; 0 starts every iteration from a fresh seed.
+    pub size: usize,
+    /// Every this many iterations the drawn state is replaced by a fresh seed.
+    #[serde(default = "default_fresh_every")]
+    pub fresh_every: usize,
+}
+
+/// Weights of the loss terms (the style term has weight 1).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LossWeights {
+    /// Weight of mean |S - clamp(S, -1, 1)|, which keeps the state bounded.
+    #[serde(default = "default_overflow")]
+    pub overflow: f32,
+}
+
+/// Memory controls of the unroll.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MemoryConfig {
+    /// Steps per recomputed segment in backpropagation (memory grows with this, time with
+    /// its inverse); 0 keeps the whole unroll on the tape.
+    #[serde(default = "default_segment")]
+    pub segment_steps: usize,
+    /// Largest number of voxels updated at once in an unroll without gradients (the hidden
+    /// layer holds `hidden` floats per voxel).
+    #[serde(default = "default_slab_voxels")]
+    pub slab_voxels: usize,
+}
+
+/// When training writes checkpoints for `--resume`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CheckpointConfig {
+    /// Wall-clock minutes between checkpoints (the last iteration is always saved).
+    #[serde(default = "default_minutes")]
+    pub minutes: f32,
+    /// Also checkpoint every this many iterations (0: only by time).
+    #[serde(default)]
+    pub every: usize,
+}
+
+fn default_state_channels() -> usize {
+    12
+}
+fn default_hidden() -> usize {
+    128
+}
+fn default_conditioning() -> Vec<CondChannel> {
+    vec![CondChannel::GreyB, CondChannel::G]
+}
+fn default_seed_amplitude() -> f32 {
+    0.05
+}
+fn default_lr() -> f64 {
+    1e-3
+}
+fn default_decay_factor() -> f64 {
+    0.3
+}
+fn default_fresh_every() -> usize {
+    32
+}
+fn default_overflow() -> f32 {
+    1.0
+}
+fn default_segment() -> usize {
+    8
+}
+fn default_slab_voxels() -> usize {
+    1 << 18
+}
+fn default_minutes() -> f32 {
+    5.0
+}
+
+impl Default for LossWeights {
+    fn default() -> Self {
+        Self {
+            overflow: default_overflow(),
+        }
+    }
+}
+
+impl Default for MemoryConfig {
+    fn default() -> Self {
+        Self {
+            segment_steps: default_segment(),
+            slab_voxels: default_slab_voxels(),
+        }
+    }
+}
+
+impl Default for CheckpointConfig {
+    fn default() -> Self {
+        Self {
+            minutes: default_minutes(),
+            every: 0,
+        }
+    }
+}
+
+impl Default for ModelSpec {
+    fn default() -> Self {
+        Self {
+            state_channels: default_state_channels(),
+            hidden: default_hidden(),
+            conditioning: default_conditioning(),
+            perception: PerceptionImpl::default(),
+            seed_amplitude: default_seed_amplitude(),
+        }
+    }
+}
+
+/// Number of fixed filters per perceived channel (identity, Sobel x, y, z, Laplacian).
+pub const FILTERS: usize = 5;
+/// Position channels appended to the perception (x, y, z in [-1, 1]).
+pub const POSITION_CHANNELS: usize = 3;
+
+impl ModelSpec {
+    /// Conditioning channels fed through perception.
+    pub fn cond_channels(&self) -> usize {
+        self.conditioning.iter().map(|c| c.width()).sum()
+    }
+
+    /// Inputs of the MLP: 5 filters x (state + conditioning) + 3 positions (73 by default).
+    pub fn inputs(&self) -> usize {
+        FILTERS * (self.state_channels + self.cond_channels()) + POSITION_CHANNELS
+    }
+
+    /// Number of trainable parameters (first layer with bias, second without).
+    pub fn parameters(&self) -> usize {
+        self.hidden * self.inputs() + self.hidden + self.state_channels * self.hidden
+    }
+
+    pub fn validate(&self, check: &Checker) -> Result<()> {
+        check.count(
+            "state_channels",
+            self.state_channels,
+            3,
+            64,
+            "state channels (the first 3 are RGB)",
+        )?;
+        check.count("hidden", self.hidden, 1, 1024, "hidden width")?;
+        for (i, c) in self.conditioning.iter().enumerate() {
+            if self.conditioning[..i].contains(c) {
+                return Err(check.error(
+                    "conditioning",
+                    format!("lists {c:?} twice; expected each channel at most once"),
+                ));
+            }
+        }
+        check.range(
+            "seed_amplitude",
+            self.seed_amplitude,
+            0.0,
+            1.0,
+            "seed amplitude",
+        )
+    }
+}
+
+impl TrainConfig {
+    /// Loads and validates a training config file.
+    pub fn load(path: &Path) -> Result<Self> {
+        let cfg: TrainConfig = load_toml(path)?;
+        cfg.validate(&Checker::new(path))?;
+        Ok(cfg)
+    }
+
+    /// Parses and validates TOML text (`origin` names it in errors).
+    pub fn parse(text: &str, origin: &Path) -> Result<Self> {
+        let cfg: TrainConfig = parse_toml(text, origin)?;
+        cfg.validate(&Checker::new(origin))?;
+        Ok(cfg)
+    }
+
+    pub fn validate(&self, check: &Checker) -> Result<()> {
+        self.model.validate(&check.nested("model"))?;
+        let v = check.nested("volume");
+        v.count("size", self.volume.size, 4, 1024, "training volume side")?;
+        v.count(
+            "crop",
+            self.volume.crop,
+            4,
+            self.volume.size,
+            "crop side (at most volume.size)",
+        )?;
+        let s = check.nested("schedule");
+        s.count(
+            "iterations",
+            self.schedule.iterations,
+            1,
+            1_000_000,
+            "iterations",
+        )?;
+        let [lo, hi] = self.schedule.steps;
+        s.count("steps", lo, 1, 10_000, "the shortest unroll")?;
+        if hi < lo || hi > 10_000 {
+            return Err(s.error(
+                "steps",
+                format!("= [{lo}, {hi}]: expected [min, max] with min <= max <= 10000"),
+            ));
+        }
+        s.positive(
+            "learning_rate",
+            self.schedule.learning_rate as f32,
+            1.0,
+            "Adam learning rate",
+        )?;
+        s.positive(
+            "decay_factor",
+            self.schedule.decay_factor as f32,
+            1.0,
+            "learning-rate factor",
+        )?;
+        let p = check.nested("pool");
+        p.count("size", self.pool.size, 0, 4096, "pool size (0 = no pool)")?;
+        p.count(
+            "fresh_every",
+            self.pool.fresh_every,
+            1,
+            1_000_000,
+            "iterations between fresh seeds",
+        )?;
+        check.nested("loss").range(
+            "overflow",
+            self.loss.overflow,
+            0.0,
+            1000.0,
+            "overflow-loss weight",
+        )?;
+        let m = check.nested("memory");
+        m.count(
+            "segment_steps",
+            self.memory.segment_steps,
+            0,
+            10_000,
+            "steps per recomputed segment (0 = none)",
+        )?;
+        m.count(
+            "slab_voxels",
+            self.memory.slab_voxels,
+            1024,
+            1 << 30,
+            "voxels per slab",
+        )?;
+        let c = check.nested("checkpoint");
+        c.positive(
+            "minutes",
+            self.checkpoint.minutes,
+            1e4,
+            "minutes between checkpoints",
+        )?;
+        c.count(
+            "every",
+            self.checkpoint.every,
+            0,
+            1_000_000,
+            "iterations between checkpoints",
+        )
+    }
+
+    /// Learning rate at `iteration` (0-based): multiplied by `decay_factor` at each
+    /// `decay_at` iteration reached.
+    pub fn learning_rate(&self, iteration: usize) -> f64 {
+        let decays = self
+            .schedule
+            .decay_at
+            .iter()
+            .filter(|&&at| iteration >= at)
+            .count();
+        self.schedule.learning_rate * self.schedule.decay_factor.powi(decays as i32)
+    }
+}

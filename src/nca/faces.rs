@@ -1,0 +1,113 @@
+//! The cube faces of a state tensor `[C, X, Y, Z]`, laid out exactly as the face table of
+//! DESIGN section 2 (`Face::point`): e.g. face A pixel (r, c) is voxel (x = c, y = N-1-r,
+//! z = N-1). For a crop, only the faces it touches are returned, each as the patch of the
+//! full face image it covers, with the patch's place in that image.
+//!
+//! Each face is described by the axis it is fixed on (and which end), and which axis runs
+//! down its rows and across its columns (and whether reversed); `tests/nca_faces.rs` checks
+//! the table voxel by voxel against `Face::pixel_point`.
+
+use burn::tensor::Tensor;
+
+use super::region::Region;
+use crate::frame::Face;
+
+/// How a face image sits in the voxel grid.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct FaceLayout {
+    /// Axis (0 = x, 1 = y, 2 = z) normal to the face, and whether the face is at its high end.
+    pub normal: (usize, bool),
+    /// Axis along the image rows (top to bottom), and whether it runs from high to low index.
+    pub rows: (usize, bool),
+    /// Axis along the image columns (left to right), and whether reversed.
+    pub cols: (usize, bool),
+}
+
+/// The face table of DESIGN section 2 in voxel terms.
+pub fn layout(face: Face) -> FaceLayout {
+    let (normal, rows, cols) = match face {
+        // x = u, y = -v, z = +0.5
+        Face::A => ((2, true), (1, true), (0, false)),
+        // x = u, y = +0.5, z = v
+        Face::B => ((1, true), (2, false), (0, false)),
+        // x = -0.5, y = -v, z = u
+        Face::C => ((0, false), (1, true), (2, false)),
+        // x = u, y = -0.5, z = -v
+        Face::D => ((1, false), (2, true), (0, false)),
+        // x = +0.5, y = -v, z = -u
+        Face::E => ((0, true), (1, true), (2, true)),
+        // x = -u, y = -v, z = -0.5
+        Face::F => ((2, false), (1, true), (0, true)),
+    };
+    FaceLayout { normal, rows, cols }
+}
+
+/// A face (or the part of it a crop covers) of a state.
+#[derive(Clone, Debug)]
+pub struct FacePatch {
+    pub face: Face,
+    /// `[C, h, w]` image, rows and columns as in the face image.
+    pub image: Tensor<3>,
+    /// Row and column of the patch's top-left pixel in the full face image of the grid.
+    pub origin: [usize; 2],
+}
+
+impl FaceLayout {
+    /// Does `region` reach this face?
+    pub fn touches(&self, region: &Region) -> bool {
+        let (axis, high) = self.normal;
+        if high {
+            region.offset[axis] + region.dims[axis] == region.grid
+        } else {
+            region.offset[axis] == 0
+        }
+    }
+
+    /// Place of the region's patch in the full face image: start index along `axis`, counted
+    /// in image order.
+    fn start(&self, (axis, reversed): (usize, bool), region: &Region) -> usize {
+        if reversed {
+            region.grid - region.offset[axis] - region.dims[axis]
+        } else {
+            region.offset[axis]
+        }
+    }
+
+    /// The face image of a state `[C, X, Y, Z]` covering `region` (the region must touch the
+    /// face): `[C, rows, cols]`.
+    pub fn extract(&self, state: Tensor<4>, region: &Region) -> Tensor<3> {
+        let (axis, high) = self.normal;
+        let dim = axis + 1;
+        let index = if high { region.dims[axis] - 1 } else { 0 };
+        let slice = state.narrow(dim, index, 1).squeeze_dim::<3>(dim); // [C, a, b], a < b remaining axes
+        let remaining: Vec<usize> = (0..3).filter(|&a| a != axis).collect();
+        let row_first = remaining[0] == self.rows.0;
+        let mut image = if row_first {
+            slice
+        } else {
+            slice.swap_dims(1, 2)
+        };
+        if self.rows.1 {
+            image = image.flip([1]);
+        }
+        if self.cols.1 {
+            image = image.flip([2]);
+        }
+        image
+    }
+}
+
+/// The patches of every face in `faces` that `region` touches, from a state `[C, X, Y, Z]`.
+pub fn face_patches(state: &Tensor<4>, region: &Region, faces: &[Face]) -> Vec<FacePatch> {
+    faces
+        .iter()
+        .filter_map(|&face| {
+            let l = layout(face);
+            l.touches(region).then(|| FacePatch {
+                face,
+                image: l.extract(state.clone(), region),
+                origin: [l.start(l.rows, region), l.start(l.cols, region)],
+            })
+        })
+        .collect()
+}

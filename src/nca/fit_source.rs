@@ -1,0 +1,136 @@
+//! Where B and G come from: **the one place the growth-field + base-colour fit (issue 4)
+//! plugs in.** Until it is merged, a stand-in is used: a growth-field config (a preset or any
+//! `configs/fields/*.toml`) with a two-colour ring ramp as base colour,
+//! B(p) = light + (dark - light) I(G(p)), I the ring localisation image of DESIGN section 4.
+//!
+//! `xylem train --fit PATH` accepts
+//! - a stand-in fit file (`[field]` = a field config, `[base_colour]` = `light`, `dark`);
+//! - a plain field config (the ramp colours then come from the photos: light = 1.1 x, dark =
+//!   0.6 x their mean colour);
+//! - a folder holding `fit.toml` (e.g. an earlier training output).
+//!
+//! The resolved fit is copied into the model folder (`fit.toml`) so synthesis rebuilds the
+//! same B and G without the sample. When the real fit lands, [`load_fit`], [`FitRecord`] and
+//! [`FitRecord::conditioning`] are what changes.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+use super::conditioning::Conditioning;
+use crate::config::{Checker, load_toml, parse_toml, write_config_copy};
+use crate::error::{Result, XylemError};
+use crate::field::{FieldConfig, GrowthField, ring_intensity};
+use crate::texture::SolidTexture;
+
+/// File name of the fit inside a model folder.
+pub const FIT_FILE: &str = "fit.toml";
+
+/// The stand-in fit: a growth field and a ring colour ramp.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FitRecord {
+    pub field: FieldConfig,
+    pub base_colour: RampColours,
+}
+
+/// Colours of the stand-in base colour, RGB in [0, 1] photo colours.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RampColours {
+    /// Colour between the rings.
+    pub light: [f32; 3],
+    /// Colour on the ring lines (integer years of G).
+    pub dark: [f32; 3],
+}
+
+impl FitRecord {
+    /// Reads a fit file, a plain field config (colours from `photo_mean`), or a folder holding
+    /// `fit.toml`.
+    pub fn load(path: &Path, photo_mean: Option<[f32; 3]>) -> Result<Self> {
+        let file = if path.is_dir() {
+            path.join(FIT_FILE)
+        } else {
+            path.to_path_buf()
+        };
+        let text = std::fs::read_to_string(&file).map_err(|e| XylemError::io(&file, e))?;
+        let table: toml::Table = parse_toml(&text, &file)?;
+        let record = if table.contains_key("field") {
+            load_toml::<FitRecord>(&file)?
+        } else {
+            let field = FieldConfig::parse(&text, &file)?;
+            let mean = photo_mean.ok_or_else(|| {
+                XylemError::input(
+                    file.display().to_string(),
+                    "a plain field config needs the sample photos for its colours",
+                )
+            })?;
+            FitRecord {
+                field,
+                base_colour: RampColours {
+                    light: mean.map(|m| (1.1 * m).min(1.0)),
+                    dark: mean.map(|m| 0.6 * m),
+                },
+            }
+        };
+        record.validate(&Checker::new(&file))?;
+        Ok(record)
+    }
+
+    pub fn validate(&self, check: &Checker) -> Result<()> {
+        self.field.validate(&check.nested("field"))?;
+        let c = check.nested("base_colour");
+        for (key, rgb) in [
+            ("light", self.base_colour.light),
+            ("dark", self.base_colour.dark),
+        ] {
+            for v in rgb {
+                c.range(key, v, 0.0, 1.0, "RGB components")?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Writes the fit next to a model.
+    pub fn save(&self, path: &Path, source: &str) -> Result<()> {
+        write_config_copy(path, self, source)
+    }
+
+    /// B and G as solid textures.
+    pub fn conditioning(&self) -> Conditioning {
+        let field = Arc::new(GrowthField::from_config(&self.field));
+        Conditioning {
+            growth: field.clone(),
+            colour: Arc::new(RampTexture {
+                field,
+                light: Vec3::from(self.base_colour.light),
+                dark: Vec3::from(self.base_colour.dark),
+            }),
+        }
+    }
+}
+
+/// Loads B and G for training from `--fit` (see the module doc).
+pub fn load_fit(fit: &Path, photo_mean: [f32; 3]) -> Result<FitRecord> {
+    FitRecord::load(fit, Some(photo_mean))
+}
+
+/// The stand-in base colour: a ring ramp over G.
+struct RampTexture {
+    field: Arc<GrowthField>,
+    light: Vec3,
+    dark: Vec3,
+}
+
+impl SolidTexture for RampTexture {
+    fn channels(&self) -> usize {
+        3
+    }
+    fn eval(&self, p: Vec3, out: &mut [f32]) {
+        let t = ring_intensity(self.field.value(p));
+        let c = self.light + (self.dark - self.light) * t;
+        out.copy_from_slice(&c.to_array());
+    }
+}

@@ -1,0 +1,113 @@
+//! The trained-model folder written by `xylem train` and read by `xylem synth`:
+//! - `model.bpk`: the weights (burnpack, burn's `ModuleRecord`), written atomically;
+//! - `model.toml`: what is needed to use them: architecture, normalisation of B and G,
+//!   training grid side, seed;
+//! - `fit.toml`: the B and G source (see `fit_source`);
+//! - `train.toml`, `loss.csv`, `loss.png`, `checkpoint/`: the training record.
+
+use std::path::Path;
+
+use burn::module::Module;
+use burn::store::ModuleRecord;
+use burn::tensor::{Bytes, Device};
+use serde::{Deserialize, Serialize};
+
+use super::conditioning::Normalisation;
+use super::config::ModelSpec;
+use super::fit_source::{FIT_FILE, FitRecord};
+use super::model::Nca;
+use crate::config::{Checker, load_toml, write_config_copy};
+use crate::error::{Result, XylemError};
+use crate::frame::Face;
+use crate::io::write_bytes_atomic;
+
+pub const WEIGHTS_FILE: &str = "model.bpk";
+pub const META_FILE: &str = "model.toml";
+
+/// Everything besides the weights that a trained model needs.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModelMeta {
+    pub spec: ModelSpec,
+    pub normalisation: Normalisation,
+    /// Side of the training grid: one voxel = 4 cm / grid, the scale the texture was learnt at.
+    pub grid: usize,
+    /// The training seed (synthesis derives its seed state from it unless told otherwise).
+    pub seed: u64,
+    /// The faces trained on (the others were left out).
+    pub faces: Vec<Face>,
+    /// Training iterations done.
+    pub iterations: usize,
+}
+
+/// A model ready to unroll.
+pub struct TrainedModel {
+    pub meta: ModelMeta,
+    pub fit: FitRecord,
+    pub model: Nca,
+}
+
+/// Writes weights atomically as burnpack.
+pub fn save_weights(model: &Nca, path: &Path) -> Result<()> {
+    let bytes = model
+        .clone()
+        .into_record()
+        .into_bytes()
+        .map_err(|e| XylemError::input(path.display().to_string(), format!("{e:?}")))?;
+    write_bytes_atomic(path, &bytes)
+}
+
+/// Loads weights of the architecture `spec`.
+pub fn load_weights(spec: &ModelSpec, path: &Path, device: &Device) -> Result<Nca> {
+    let bytes = std::fs::read(path).map_err(|e| XylemError::io(path, e))?;
+    let bad = |e: String| {
+        XylemError::input(
+            path.display().to_string(),
+            format!("not a burnpack model of this architecture: {e}"),
+        )
+    };
+    let record = ModuleRecord::from_bytes(Bytes::from_bytes_vec(bytes))
+        .map_err(|e| bad(format!("{e:?}")))?;
+    let model = Nca::init(spec, 0, device)
+        .try_load_record(record)
+        .map_err(|e| bad(format!("{e:?}")))?;
+    if !model.matches(spec) {
+        return Err(bad(format!(
+            "weights are {:?}/{:?}, model.toml asks for hidden {} and {} inputs",
+            model.w1.dims(),
+            model.w2.dims(),
+            spec.hidden,
+            spec.inputs()
+        )));
+    }
+    Ok(model)
+}
+
+impl ModelMeta {
+    pub fn save(&self, dir: &Path) -> Result<()> {
+        write_config_copy(&dir.join(META_FILE), self, "xylem train")
+    }
+
+    pub fn load(dir: &Path) -> Result<Self> {
+        let path = dir.join(META_FILE);
+        let meta: ModelMeta = load_toml(&path)?;
+        meta.spec.validate(&Checker::new(&path).nested("spec"))?;
+        Ok(meta)
+    }
+}
+
+impl TrainedModel {
+    /// Reads a model folder written by `xylem train`.
+    pub fn load(dir: &Path, device: &Device) -> Result<Self> {
+        if !dir.join(WEIGHTS_FILE).is_file() {
+            return Err(XylemError::input(
+                dir.display().to_string(),
+                format!("no {WEIGHTS_FILE} here; expected a folder written by `xylem train`"),
+            ));
+        }
+        let meta = ModelMeta::load(dir)?;
+        let fit = FitRecord::load(&dir.join(FIT_FILE), None)?;
+        let model = load_weights(&meta.spec, &dir.join(WEIGHTS_FILE), device)?;
+        Ok(Self { meta, fit, model })
+    }
+}

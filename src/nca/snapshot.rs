@@ -1,0 +1,167 @@
+//! Training checkpoints for `--resume`: everything an uninterrupted run would still have in
+//! memory, so a resumed run continues bit for bit (tested):
+//! - `model.bpk`: the weights (with their parameter ids, which key the optimiser state);
+//! - `optimiser.bpk`: Adam's moments and step counts;
+//! - `pool.npy`: the pool states `[P, C, X, Y, Z]` (empty slots are zeros);
+//! - `progress.toml`: the next iteration and each pool slot's region (-1: empty);
+//! - `loss.csv`: the log so far.
+//!
+//! The random draws need no saving: iteration i draws from its own stream (see `train`).
+//! A checkpoint is written to `checkpoint.tmp/` and then renamed into place, the previous
+//! one kept as `checkpoint.old/` until the rename is done, so a kill at any moment leaves a
+//! complete checkpoint.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use burn::tensor::Bytes;
+use serde::{Deserialize, Serialize};
+
+use super::loss_log::{LossRow, read_csv, write_csv};
+use super::model_dir::{load_weights, save_weights};
+use super::pool::Pool;
+use super::train::{Trainer, adam};
+use crate::config::{load_toml, write_config_copy};
+use crate::error::{Result, XylemError};
+use crate::io::npy::{read_npy, write_npy};
+use crate::io::write_bytes_atomic;
+
+pub const SNAPSHOT_DIR: &str = "checkpoint";
+
+#[derive(Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Progress {
+    /// The next iteration to run.
+    iteration: usize,
+    /// Region index of each pool slot, -1 for empty slots.
+    pool_regions: Vec<i64>,
+    /// Shape of one pool state `[C, X, Y, Z]`.
+    state_dims: [usize; 4],
+}
+
+fn dirs(root: &Path) -> (PathBuf, PathBuf, PathBuf) {
+    (
+        root.join(SNAPSHOT_DIR),
+        root.join(format!("{SNAPSHOT_DIR}.tmp")),
+        root.join(format!("{SNAPSHOT_DIR}.old")),
+    )
+}
+
+fn io(path: &Path) -> impl FnOnce(std::io::Error) -> XylemError + '_ {
+    move |e| XylemError::io(path, e)
+}
+
+/// Writes the trainer's state and the log into `root/checkpoint/`.
+pub fn save(root: &Path, trainer: &Trainer, rows: &[LossRow]) -> Result<()> {
+    let (dir, tmp, old) = dirs(root);
+    if tmp.exists() {
+        fs::remove_dir_all(&tmp).map_err(io(&tmp))?;
+    }
+    fs::create_dir_all(&tmp).map_err(io(&tmp))?;
+    save_weights(&trainer.plain_model(), &tmp.join("model.bpk"))?;
+    let optimiser = trainer
+        .optimiser
+        .into_bytes()
+        .map_err(|e| XylemError::numeric("optimiser state", format!("{e:?}")))?;
+    write_bytes_atomic(&tmp.join("optimiser.bpk"), &optimiser)?;
+    let slots = trainer.pool.to_data()?;
+    let state_dims = trainer.state_dims();
+    let per = state_dims.iter().product::<usize>();
+    let mut values = vec![0.0f32; slots.len() * per];
+    let mut regions = Vec::with_capacity(slots.len());
+    for (i, slot) in slots.into_iter().enumerate() {
+        match slot {
+            Some((region, _, v)) => {
+                values[i * per..(i + 1) * per].copy_from_slice(&v);
+                regions.push(region as i64);
+            }
+            None => regions.push(-1),
+        }
+    }
+    let mut shape = vec![regions.len()];
+    shape.extend(state_dims);
+    write_npy(&tmp.join("pool.npy"), &shape, &values)?;
+    let progress = Progress {
+        iteration: trainer.iteration,
+        pool_regions: regions,
+        state_dims,
+    };
+    write_config_copy(
+        &tmp.join("progress.toml"),
+        &progress,
+        "xylem train checkpoint",
+    )?;
+    write_csv(&tmp.join("loss.csv"), rows)?;
+    if dir.exists() {
+        if old.exists() {
+            fs::remove_dir_all(&old).map_err(io(&old))?;
+        }
+        fs::rename(&dir, &old).map_err(io(&dir))?;
+    }
+    fs::rename(&tmp, &dir).map_err(io(&dir))?;
+    if old.exists() {
+        fs::remove_dir_all(&old).map_err(io(&old))?;
+    }
+    Ok(())
+}
+
+/// Is there a checkpoint to resume from?
+pub fn exists(root: &Path) -> bool {
+    let (dir, _, old) = dirs(root);
+    dir.join("progress.toml").is_file() || old.join("progress.toml").is_file()
+}
+
+/// Restores the trainer from `root/checkpoint/` (or the previous checkpoint if a save was
+/// interrupted) and returns the log so far.
+pub fn load(root: &Path, trainer: &mut Trainer) -> Result<Vec<LossRow>> {
+    let (dir, _, old) = dirs(root);
+    let dir = if dir.join("progress.toml").is_file() {
+        dir
+    } else {
+        old
+    };
+    let progress: Progress = load_toml(&dir.join("progress.toml"))?;
+    let spec = trainer.config.model.clone();
+    trainer.model = load_weights(
+        &spec,
+        &dir.join("model.bpk"),
+        &trainer.kind.autodiff_device(),
+    )?;
+    let path = dir.join("optimiser.bpk");
+    let bytes = fs::read(&path).map_err(io(&path))?;
+    trainer.optimiser = adam()
+        .from_bytes(Bytes::from_bytes_vec(bytes))
+        .map_err(|e| XylemError::input(path.display().to_string(), format!("{e:?}")))?;
+    let pool_path = dir.join("pool.npy");
+    let (shape, values) = read_npy(&pool_path)?;
+    let per = progress.state_dims.iter().product::<usize>();
+    if shape.len() != 5 || shape[0] != progress.pool_regions.len() || values.len() != shape[0] * per
+    {
+        return Err(XylemError::input(
+            pool_path.display().to_string(),
+            format!(
+                "pool shape {shape:?} does not match progress.toml ({} slots of {:?})",
+                progress.pool_regions.len(),
+                progress.state_dims
+            ),
+        ));
+    }
+    let slots = progress
+        .pool_regions
+        .iter()
+        .enumerate()
+        .map(|(i, &r)| {
+            (r >= 0).then(|| {
+                (
+                    r as usize,
+                    progress.state_dims,
+                    values[i * per..(i + 1) * per].to_vec(),
+                )
+            })
+        })
+        .collect();
+    trainer.pool = Pool::from_data(slots, trainer.device())?;
+    trainer.iteration = progress.iteration;
+    let rows = read_csv(&dir.join("loss.csv"))?;
+    Ok(rows)
+}

@@ -1,0 +1,288 @@
+//! NCA training end to end on a tiny synthetic sample: the loss goes down, a killed run
+//! resumed from its checkpoint continues exactly, and the CLI works on flex and ndarray.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+mod common;
+use common::scratch;
+
+use xylem::Image2;
+use xylem::device::DeviceKind;
+use xylem::field::{GrowthField, ring_intensity};
+use xylem::frame::Face;
+use xylem::io::{OutputDir, save_png};
+use xylem::nca::TrainConfig;
+use xylem::nca::fit_source::load_fit;
+use xylem::nca::loss::MomentLoss;
+use xylem::nca::model_dir::load_weights;
+use xylem::nca::session::{TrainOptions, run_training};
+use xylem::nca::targets::photo_mean;
+use xylem::nca::tensors::to_vec;
+use xylem::nca::train::TrainData;
+use xylem::presets::load_field_preset;
+use xylem::rng::hash3;
+use xylem::sample::{Needs, Sample};
+use xylem::slice::slice_face;
+
+fn repo(path: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
+}
+
+/// Six 16 x 16 photos of the `distorted` preset: brown wood with dark rings and pixel noise.
+fn write_sample(dir: &Path) {
+    let field = GrowthField::from_config(&load_field_preset("distorted").unwrap());
+    for face in Face::ALL {
+        let g = slice_face(&field, face, 16);
+        let mut img = Image2::filled(16, 16, 3, 0.0);
+        for r in 0..16 {
+            for c in 0..16 {
+                let ring = ring_intensity(g.get(r, c, 0));
+                let noise = xylem::rng::unit(hash3(face.index() as u64, r as i32, c as i32, 0));
+                let light = 0.75 - 0.35 * ring + 0.15 * (noise - 0.5);
+                img.pixel_mut(r, c)
+                    .copy_from_slice(&[light, 0.8 * light, 0.55 * light]);
+            }
+        }
+        save_png(&img, &dir.join(format!("{face}_col.png"))).unwrap();
+    }
+}
+
+/// A tiny config: 12^3 grid (6^3 corner crops), 3-5 steps, segments of 2.
+fn tiny_config(iterations: usize, crop: usize, pool: usize) -> TrainConfig {
+    let text = format!(
+        "seed = 4\n[model]\nhidden = 16\n[volume]\nsize = 12\ncrop = {crop}\n\
+         [schedule]\niterations = {iterations}\nsteps = [3, 5]\nlearning_rate = 3e-3\n\
+         decay_at = [5]\n[pool]\nsize = {pool}\nfresh_every = 3\n[memory]\nsegment_steps = 2\n"
+    );
+    TrainConfig::parse(&text, Path::new("<test>")).unwrap()
+}
+
+fn data(sample_dir: &Path, grid: usize) -> TrainData {
+    let needs = Needs {
+        photos: true,
+        arl: false,
+    };
+    let sample = Sample::load(sample_dir, &Face::ALL, needs).unwrap();
+    let fit = load_fit(&repo("configs/fields/distorted.toml"), photo_mean(&sample)).unwrap();
+    TrainData::prepare(&sample, fit, grid)
+}
+
+fn train(
+    out: &Path,
+    cfg: &TrainConfig,
+    data: &TrainData,
+    options: &TrainOptions,
+) -> xylem::nca::session::TrainOutcome {
+    let kind = DeviceKind::Flex;
+    let loss = MomentLoss::new(&data.targets, &kind.device());
+    let dir = OutputDir::prepare(out).unwrap();
+    run_training(&dir, cfg, "test", data, kind, &loss, options, &mut |_| {}).unwrap()
+}
+
+#[test]
+fn shipped_configs_load() {
+    for name in ["default", "quick"] {
+        let path = repo(&format!("configs/nca/{name}.toml"));
+        let cfg = TrainConfig::load(&path).unwrap();
+        assert_eq!(cfg.model.inputs(), 73, "{name}");
+    }
+    let cfg = TrainConfig::load(&repo("configs/nca/default.toml")).unwrap();
+    assert_eq!(cfg.model.parameters(), 73 * 128 + 128 + 128 * 12);
+    for (it, lr) in [(0, 1e-3), (699, 1e-3), (700, 3e-4), (1200, 9e-5)] {
+        assert!((cfg.learning_rate(it) - lr).abs() < 1e-12, "iteration {it}");
+    }
+    let bad = "seed = 1\n[volume]\nsize = 16\ncrop = 32\n[schedule]\niterations = 3\nsteps = [4, 2]\n[pool]\nsize = 0\n";
+    let err = TrainConfig::parse(bad, Path::new("bad.toml"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("bad.toml") && err.contains("volume.crop"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_few_iterations_lower_the_loss() {
+    let dir = scratch("lower");
+    std::fs::create_dir_all(dir.join("sample")).unwrap();
+    write_sample(&dir.join("sample"));
+    // Whole 12^3 volume, fixed start (no pool): the loss is comparable between iterations.
+    let cfg = tiny_config(40, 12, 0);
+    let outcome = train(
+        &dir.join("out"),
+        &cfg,
+        &data(&dir.join("sample"), 12),
+        &TrainOptions::default(),
+    );
+    assert!(outcome.finished);
+    let losses: Vec<f32> = outcome.rows.iter().map(|r| r.loss).collect();
+    let first = losses[..4].iter().sum::<f32>() / 4.0;
+    let last = losses[losses.len() - 4..].iter().sum::<f32>() / 4.0;
+    assert!(
+        last < 0.7 * first,
+        "loss went from {first} to {last}: {losses:?}"
+    );
+    for f in [
+        "model.bpk",
+        "model.toml",
+        "fit.toml",
+        "train.toml",
+        "loss.csv",
+        "loss.png",
+    ] {
+        assert!(dir.join("out").join(f).is_file(), "{f}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn resume_continues_exactly_like_an_uninterrupted_run() {
+    let dir = scratch("resume");
+    std::fs::create_dir_all(dir.join("sample")).unwrap();
+    write_sample(&dir.join("sample"));
+    // Corner crops and a pool: every kind of carried state is exercised.
+    let mut cfg = tiny_config(8, 6, 4);
+    cfg.checkpoint.every = 3;
+    let data = data(&dir.join("sample"), 12);
+    let straight = dir.join("straight");
+    train(&straight, &cfg, &data, &TrainOptions::default());
+    // Killed after 5 iterations: the last checkpoint is at 3, so 3 and 4 are redone.
+    let resumed = dir.join("resumed");
+    let stop = TrainOptions {
+        resume: false,
+        stop_after: Some(5),
+    };
+    let partial = train(&resumed, &cfg, &data, &stop);
+    assert!(!partial.finished && partial.iterations == 5);
+    let again = TrainOptions {
+        resume: true,
+        stop_after: None,
+    };
+    let done = train(&resumed, &cfg, &data, &again);
+    assert!(done.finished && done.iterations == 8);
+    // The log (iterations 3..8 recomputed after the resume, through the restored Adam
+    // moments) and the pool are byte-identical; the weights are equal value for value (the
+    // files differ only in burn's random parameter ids).
+    for f in ["loss.csv", "checkpoint/pool.npy"] {
+        let a = std::fs::read(straight.join(f)).unwrap();
+        let b = std::fs::read(resumed.join(f)).unwrap();
+        assert!(
+            a == b,
+            "{f} differs between the uninterrupted and the resumed run"
+        );
+    }
+    let device = burn::tensor::Device::flex();
+    let weights = |dir: &Path| {
+        let m = load_weights(&cfg.model, &dir.join("model.bpk"), &device).unwrap();
+        [
+            to_vec(m.w1.val()).unwrap(),
+            to_vec(m.b1.val()).unwrap(),
+            to_vec(m.w2.val()).unwrap(),
+        ]
+    };
+    let (a, b) = (weights(&straight), weights(&resumed));
+    assert_eq!(a, b, "weights differ");
+    assert!(
+        a[2].iter().any(|v| *v != 0.0),
+        "the second layer was trained"
+    );
+    // Without --resume an existing run is not overwritten.
+    let kind = DeviceKind::Flex;
+    let loss = MomentLoss::new(&data.targets, &kind.device());
+    let out = OutputDir::prepare(&resumed).unwrap();
+    let err = run_training(
+        &out,
+        &cfg,
+        "t",
+        &data,
+        kind,
+        &loss,
+        &TrainOptions::default(),
+        &mut |_| {},
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(err.contains("--resume"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+fn xylem() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_xylem"))
+}
+
+fn run_ok(cmd: &mut Command) {
+    let out = cmd.output().expect("run xylem");
+    assert!(
+        out.status.success(),
+        "xylem failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+#[test]
+fn cli_trains_resumes_and_synthesises_on_ndarray_and_flex() {
+    let dir = scratch("cli");
+    std::fs::create_dir_all(dir.join("sample")).unwrap();
+    write_sample(&dir.join("sample"));
+    let config = dir.join("tiny.toml");
+    std::fs::write(
+        &config,
+        "seed = 2\n[model]\nhidden = 8\n[volume]\nsize = 8\ncrop = 4\n[schedule]\n\
+         iterations = 4\nsteps = [2, 3]\n[pool]\nsize = 2\n[checkpoint]\nevery = 2\n",
+    )
+    .unwrap();
+    for device in ["ndarray", "flex"] {
+        let model = dir.join(format!("model-{device}"));
+        let train = |extra: &[&str]| {
+            let mut c = xylem();
+            c.args(["train", "--device", device, "--sample"])
+                .arg(dir.join("sample"))
+                .arg("--out")
+                .arg(&model)
+                .args(extra);
+            c
+        };
+        let fit = repo("configs/fields/distorted.toml");
+        let first = [
+            "--config",
+            config.to_str().unwrap(),
+            "--fit",
+            fit.to_str().unwrap(),
+            "--faces",
+            "A,B,C,D,E",
+            "--stop-after",
+            "3",
+        ];
+        run_ok(&mut train(&first));
+        run_ok(&mut train(&["--resume"]));
+        let csv = std::fs::read_to_string(model.join("loss.csv")).unwrap();
+        assert_eq!(csv.lines().count(), 5, "header + 4 iterations:\n{csv}");
+        let meta = std::fs::read_to_string(model.join("model.toml")).unwrap();
+        assert!(
+            meta.contains("faces = [\"A\", \"B\", \"C\", \"D\", \"E\"]"),
+            "{meta}"
+        );
+        let synth = dir.join(format!("synth-{device}"));
+        run_ok(
+            xylem()
+                .args(["synth", "--device", device, "--steps", "3", "--model"])
+                .arg(&model)
+                .arg("--out")
+                .arg(&synth),
+        );
+        let (shape, values) = xylem::io::npy::read_npy(&synth.join("volume.npy")).unwrap();
+        assert_eq!(shape, vec![8, 8, 8, 3]);
+        assert!(values.iter().all(|v| v.is_finite()));
+        for f in [
+            "faces/A.png",
+            "faces/F.png",
+            "cuts/cut1.png",
+            "cuts/cut2.png",
+            "unfolded.png",
+        ] {
+            assert!(synth.join(f).is_file(), "{device}: {f}");
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
