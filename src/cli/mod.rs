@@ -2,6 +2,7 @@
 
 mod demo_cmd;
 mod field_cmd;
+mod fit_cmd;
 mod presets;
 mod slice_cmd;
 
@@ -22,6 +23,7 @@ pub struct Cli {
 pub enum Command {
     Demo(demo_cmd::DemoArgs),
     Field(field_cmd::FieldArgs),
+    Fit(fit_cmd::FitArgs),
     Slice(slice_cmd::SliceArgs),
 }
 
@@ -29,6 +31,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Demo(a) => demo_cmd::run(a),
         Command::Field(a) => field_cmd::run(a),
+        Command::Fit(a) => fit_cmd::run(a),
         Command::Slice(a) => slice_cmd::run(a),
     }
 }
