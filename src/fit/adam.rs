@@ -11,6 +11,9 @@ pub struct Adam {
     beta1: f32,
     beta2: f32,
     eps: f32,
+    /// One second moment for all parameters (their mean squared gradient) instead of one
+    /// each: parameters with small gradients then take small steps (see `shared`).
+    shared: bool,
 }
 
 impl Adam {
@@ -23,6 +26,19 @@ impl Adam {
             beta1: 0.9,
             beta2: 0.999,
             eps: 1e-8,
+            shared: false,
+        }
+    }
+
+    /// Adam whose second moment is shared by all parameters. Plain Adam moves every parameter
+    /// by about the step size whatever its gradient, so a parameter that only a handful of
+    /// noisy data points touch wanders as fast as a well-determined one; with a shared second
+    /// moment each parameter's step is proportional to its own gradient (momentum SGD with
+    /// a step normalised by the whole gradient's RMS).
+    pub fn shared(n: usize) -> Self {
+        Self {
+            shared: true,
+            ..Self::new(n)
         }
     }
 
@@ -37,10 +53,12 @@ impl Adam {
         self.t += 1;
         let c1 = 1.0 - self.beta1.powi(self.t);
         let c2 = 1.0 - self.beta2.powi(self.t);
+        let mean_sq = grad.iter().map(|g| g * g).sum::<f32>() / grad.len().max(1) as f32;
         for i in 0..params.len() {
             let g = grad[i];
             self.m[i] = self.beta1 * self.m[i] + (1.0 - self.beta1) * g;
-            self.v[i] = self.beta2 * self.v[i] + (1.0 - self.beta2) * g * g;
+            let sq = if self.shared { mean_sq } else { g * g };
+            self.v[i] = self.beta2 * self.v[i] + (1.0 - self.beta2) * sq;
             let m_hat = self.m[i] / c1;
             let v_hat = self.v[i] / c2;
             params[i] -= lr(i) * m_hat / (v_hat.sqrt() + self.eps);

@@ -86,8 +86,9 @@ pub struct DistortionFitConfig {
     /// Weight of the penalty on the log rates themselves (pulls towards round rings where
     /// the faces say nothing).
     pub lambda_magnitude: f32,
-    /// Nodes of the grey map M over the normalised G range.
-    pub map_nodes: usize,
+    /// Nodes of the grey map M per year of G (the map spans the faces' range of G); fine
+    /// enough to resolve a ring, which is about a tenth of a year wide in sharp images.
+    pub map_nodes_per_year: f32,
     /// Every `image_stride`-th pixel (in rows and columns) enters the image loss.
     pub image_stride: usize,
     /// Smallest relative growth rate (rings never cross).
@@ -113,10 +114,18 @@ pub struct RingPeakConfig {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct KnotFitConfig {
-    /// Initial knot radius at the marks (cube units; 0.12 = 5 mm). The knot's growth speed
-    /// (knot radius / stem radius) starts at this radius over the marks' distance from the
-    /// pith, so a far pith does not start with a knot that fills the cube.
+    /// Knot radius at the marks (cube units; 0.12 = 5 mm) when the photos do not show it
+    /// (`knot_init::photo_knot_radius`). The knot's growth speed (knot radius / stem radius)
+    /// is this radius over the marks' distance from the pith.
     pub radius: f32,
+    /// Largest knot radius looked for in the photos (cube units).
+    pub max_radius: f32,
+    /// Weight of the penalty holding each knot's strand near its marks (per cube unit
+    /// squared; 100: a 1 mm miss costs 0.06).
+    pub lambda_anchor: f32,
+    /// Fit the growth speed too (the ring images hardly constrain a knot's size, see
+    /// `knot_init`); origin and direction are fitted when `fit` is set.
+    pub fit_speed: bool,
     /// Contour points closer than this to a marked knot axis (cube units) are left out of
     /// step 1, whose undistorted field cannot explain them.
     pub exclusion: f32,
@@ -178,13 +187,13 @@ impl Default for DistortionFitConfig {
             grid: [8, 16, 16],
             iterations: 300,
             trial_iterations: 60,
-            lr_rates: 0.002,
+            lr_rates: 0.001,
             lr_map: 0.02,
             lambda_iso: 10.0,
             lambda_image: 1.0,
             lambda_smooth: 5.0,
             lambda_magnitude: 0.0,
-            map_nodes: 128,
+            map_nodes_per_year: 24.0,
             image_stride: 4,
             min_rate: 0.05,
             knot_gradient_stride: 4,
@@ -205,6 +214,9 @@ impl Default for KnotFitConfig {
     fn default() -> Self {
         Self {
             radius: 0.12,
+            max_radius: 0.45,
+            fit_speed: false,
+            lambda_anchor: 100.0,
             exclusion: 0.1,
             lr: 0.005,
             fit: true,
@@ -371,7 +383,13 @@ impl DistortionFitConfig {
             1e4,
             "a loss weight",
         )?;
-        check.count("map_nodes", self.map_nodes, 4, 4096, "grey-map nodes")?;
+        check.range(
+            "map_nodes_per_year",
+            self.map_nodes_per_year,
+            1.0,
+            200.0,
+            "grey-map nodes per year",
+        )?;
         check.count("image_stride", self.image_stride, 1, 64, "a pixel stride")?;
         check.range(
             "min_rate",
@@ -417,6 +435,20 @@ impl KnotFitConfig {
             0.005,
             1.0,
             "the initial knot radius in cube units",
+        )?;
+        check.range(
+            "max_radius",
+            self.max_radius,
+            0.01,
+            1.0,
+            "the largest knot radius in cube units",
+        )?;
+        check.range(
+            "lambda_anchor",
+            self.lambda_anchor,
+            0.0,
+            1e6,
+            "a loss weight",
         )?;
         check.range(
             "exclusion",

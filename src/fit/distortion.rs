@@ -2,7 +2,8 @@
 //! knots to
 //!
 //!   L = lambda_iso x L_iso + lambda_image x mean |M(t(G)) - ARL|
-//!       + lambda_smooth x S(log R) + lambda_magnitude x mean (log R)^2,
+//!       + lambda_smooth x S(log R) + lambda_magnitude x mean (log R)^2
+//!       + lambda_anchor x (squared distances of the knot marks from their strands),
 //!
 //! L_iso being the iso-contour loss in cube units (years / years_per_unit) and S the mean
 //! squared difference of neighbouring log rates along height, azimuth and radius.
@@ -27,7 +28,7 @@ use super::config::{DistortionFitConfig, KnotFitConfig};
 use super::contours::ContourSet;
 use super::grey_map::{self, GRange};
 use super::iso_loss::{iso_loss, sign};
-use super::knot_fit::{KNOT_PARAMS, KnotVariants, knot_params, set_knot_params};
+use super::knot_fit::{KNOT_PARAMS, KnotVariants, anchor_penalty, knot_params, set_knot_params};
 use super::stem_basis::StemBasis;
 use crate::field::{KnotConfig, PithAxis, RateGrid};
 
@@ -57,7 +58,7 @@ pub struct LossParts {
     pub iso: f32,
     /// Mean absolute ring-image error (before lambda).
     pub image: f32,
-    /// Smoothness and magnitude penalties on the log rates (weighted).
+    /// Penalties (weighted): smoothness and magnitude of the log rates, knot anchors.
     pub smooth: f32,
 }
 
@@ -79,6 +80,9 @@ pub struct Step2 {
     iso_basis: StemBasis,
     pixel_basis: StemBasis,
     data: Step2Data,
+    /// Per knot, the marked points its strand is held near, and the penalty's weight.
+    anchors: Vec<Vec<Vec3>>,
+    lambda_anchor: f32,
 }
 
 impl Step2 {
@@ -103,7 +107,16 @@ impl Step2 {
             iso_basis,
             pixel_basis,
             data,
+            anchors: Vec::new(),
+            lambda_anchor: 0.0,
         }
+    }
+
+    /// Holds knot i's strand near `anchors[i]` with weight `lambda` (`knot_fit::anchor_penalty`).
+    pub fn with_knot_anchors(mut self, anchors: Vec<Vec<Vec3>>, lambda: f32) -> Self {
+        self.anchors = anchors;
+        self.lambda_anchor = lambda;
+        self
     }
 
     pub fn data(&self) -> &Step2Data {
@@ -182,7 +195,20 @@ impl Step2 {
         let c = &self.cfg;
         let count = params.theta.len().max(1) as f32;
         let magnitude = params.theta.iter().map(|t| t * t).sum::<f32>() / count;
-        let penalty = c.lambda_smooth * smooth + c.lambda_magnitude * magnitude;
+        let mut penalty = c.lambda_smooth * smooth + c.lambda_magnitude * magnitude;
+        let mut knots_grad = vec![0.0; params.knots.len() * KNOT_PARAMS];
+        for ((knot, marks), g) in params
+            .knots
+            .iter()
+            .zip(&self.anchors)
+            .zip(knots_grad.chunks_mut(KNOT_PARAMS))
+        {
+            let (p, d) = anchor_penalty(knot, marks);
+            penalty += self.lambda_anchor * p;
+            g.iter_mut()
+                .zip(d)
+                .for_each(|(g, d)| *g = self.lambda_anchor * d);
+        }
         let parts = LossParts {
             total: c.lambda_iso * iso + c.lambda_image * image + penalty,
             iso,
@@ -214,7 +240,6 @@ impl Step2 {
             })
             .collect();
         let map = d_map.iter().map(|d| c.lambda_image * d).collect();
-        let mut knots_grad = vec![0.0; params.knots.len() * KNOT_PARAMS];
         for (w, v) in [(&w_iso, &iso_v), (&w_pix, &pix_v)] {
             if v.d_knots.is_empty() {
                 continue;
@@ -267,7 +292,7 @@ impl Step2 {
     ) -> (Step2Params, LossParts) {
         let levers = rate_levers(&self.layout);
         let mut params = start;
-        let mut adam_theta = Adam::new(params.theta.len());
+        let mut adam_theta = Adam::shared(params.theta.len());
         let mut adam_map = Adam::new(params.map.len());
         let mut knot_vec: Vec<f32> = params.knots.iter().flat_map(knot_params).collect();
         let mut adam_knots = Adam::new(knot_vec.len());
@@ -287,7 +312,7 @@ impl Step2 {
             if knot_cfg.fit && !knot_vec.is_empty() {
                 adam_knots.step(&mut knot_vec, &grad.knots, lr(knot_cfg.lr));
                 for (k, p) in params.knots.iter_mut().zip(knot_vec.chunks(KNOT_PARAMS)) {
-                    set_knot_params(k, p);
+                    set_knot_params(k, p, knot_cfg.fit_speed);
                 }
                 knot_vec = params.knots.iter().flat_map(knot_params).collect();
             }

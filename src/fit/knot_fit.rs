@@ -37,12 +37,14 @@ pub fn knot_params(k: &KnotConfig) -> [f32; KNOT_PARAMS] {
 }
 
 /// Writes a parameter vector back (direction normalised, speed kept within
-/// [`MIN_SPEED`, `MAX_SPEED`]).
-pub fn set_knot_params(k: &mut KnotConfig, p: &[f32]) {
+/// [`MIN_SPEED`, `MAX_SPEED`], or left as it was unless `speed` is set).
+pub fn set_knot_params(k: &mut KnotConfig, p: &[f32], speed: bool) {
     k.origin = [p[0], p[1], p[2]];
     let d = Vec3::new(p[3], p[4], p[5]).normalize_or(Vec3::Z);
     k.direction = d.into();
-    k.speed = p[6].clamp(MIN_SPEED, MAX_SPEED);
+    if speed {
+        k.speed = p[6].clamp(MIN_SPEED, MAX_SPEED);
+    }
 }
 
 /// The knots and, for every parameter, the knots with that parameter moved up and down.
@@ -120,4 +122,29 @@ impl KnotVariants {
             s.delta == 0.0 && s.time > stem + 2.0 * STEM_STEP
         })
     }
+}
+
+/// Sum over `marks` of the squared distance from the knot's strand line, and its gradient in
+/// the [`knot_params`] layout (speed: 0). The marks are a person's reading of the photos and
+/// the ring images hardly show a knot's inside, so step 2 keeps the strand close to them with
+/// this penalty while it adjusts where the knot leaves the pith and its exact heading.
+pub fn anchor_penalty(knot: &KnotConfig, marks: &[Vec3]) -> (f32, [f32; KNOT_PARAMS]) {
+    let o = Vec3::from(knot.origin);
+    let raw = Vec3::from(knot.direction);
+    let len = raw.length().max(1e-9);
+    let d = raw / len;
+    let mut grad = [0.0; KNOT_PARAMS];
+    let mut sum = 0.0;
+    for &m in marks {
+        let w = m - o;
+        let along = w.dot(d);
+        let q = w - along * d;
+        sum += q.length_squared();
+        let (g_o, g_d) = (-2.0 * q, -2.0 * along * q / len);
+        for a in 0..3 {
+            grad[a] += g_o[a];
+            grad[3 + a] += g_d[a];
+        }
+    }
+    (sum, grad)
 }

@@ -61,3 +61,27 @@ pub fn image_correlation(a: &Image2, b: &Image2, border: usize) -> f32 {
     }
     pearson(&xs, &ys)
 }
+
+/// The best [`image_correlation`] over shifts of `b` by up to `shift` pixels in rows and
+/// columns (the overlap only, leaving out `border` pixels), which forgives a ring placed a
+/// pixel or two off, as DESIGN section 8's ring alignment does.
+pub fn shifted_correlation(a: &Image2, b: &Image2, border: usize, shift: usize) -> f32 {
+    let n = a.width as isize;
+    let s = shift as isize;
+    let lo = border as isize + s;
+    let hi = n - border as isize - s;
+    let mut best = f32::NEG_INFINITY;
+    for dr in -s..=s {
+        for dc in -s..=s {
+            let (mut xs, mut ys) = (Vec::new(), Vec::new());
+            for r in lo..hi {
+                for c in lo..hi {
+                    xs.push(a.get(r as usize, c as usize, 0));
+                    ys.push(b.get((r + dr) as usize, (c + dc) as usize, 0));
+                }
+            }
+            best = best.max(pearson(&xs, &ys));
+        }
+    }
+    best
+}

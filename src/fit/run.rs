@@ -18,11 +18,11 @@ use super::distortion::{LossParts, Step2, Step2Data, Step2Params};
 use super::grey_map::{self, GRange};
 use super::grid_layout::fitted_grid;
 use super::iso_loss::iso_loss;
-use super::knot_init::KnotMarks;
+use super::knot_init::MarkedKnot;
 use super::metrics::iso_error_mm;
 use super::pith_descent::descend;
 use super::pith_search::{axes_differ, axis_loss, search};
-use super::ring_peaks::{median_spacing, ring_peaks};
+use super::ring_peaks::{median_spacing, profile_peaks};
 use super::white_balance::{balance, white_balance};
 use crate::config::Checker;
 use crate::error::{Result, XylemError};
@@ -89,10 +89,10 @@ pub fn fit_sample(sample: &Sample, cfg: &FitConfig, progress: Progress) -> Resul
     let clock = Instant::now();
     let contours = sample_contours(sample, cfg)?;
     let all = ContourSet::new(&contours, cfg.contours.max_points);
-    let marks: Vec<KnotMarks> = sample
+    let marks: Vec<MarkedKnot> = sample
         .knots()
         .iter()
-        .filter_map(|m| KnotMarks::from_markers(m))
+        .filter_map(|m| MarkedKnot::new(m, &sample.photos, &cfg.knots))
         .collect();
     seconds[0] = clock.elapsed().as_secs_f64();
 
@@ -103,7 +103,7 @@ pub fn fit_sample(sample: &Sample, cfg: &FitConfig, progress: Progress) -> Resul
     seconds[1] = clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
-    let pixels = ring_pixels(sample, cfg);
+    let pixels = face_pixels(sample, cfg.contours.border, cfg.distortion.image_stride);
     let trial = best_trial(&piths, &all, &pixels, &marks, cfg, &mut log, progress);
     let step2 = trial.step2;
     let pith = step2.pith;
@@ -118,8 +118,8 @@ pub fn fit_sample(sample: &Sample, cfg: &FitConfig, progress: Progress) -> Resul
         });
         progress("distortion", it, iterations);
     });
-    let rings = rings_of(&fitted.map, &step2.range, cfg);
-    let mut field = field_config(&step2, &fitted, rings);
+    let mut field = field_config(&step2, &fitted, None);
+    field.growth.rings = rings_of(&GrowthField::from_config(&field), sample, cfg);
     seconds[2] = clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
@@ -200,7 +200,7 @@ pub fn sample_contours(sample: &Sample, cfg: &FitConfig) -> Result<Vec<Contour>>
 
 /// Contour points away from the marked knots (all points if that leaves fewer than 2
 /// contours).
-fn without_knots(all: &ContourSet, marks: &[KnotMarks], exclusion: f32) -> ContourSet {
+fn without_knots(all: &ContourSet, marks: &[MarkedKnot], exclusion: f32) -> ContourSet {
     if marks.is_empty() || exclusion <= 0.0 {
         return all.clone();
     }
@@ -271,7 +271,7 @@ fn best_trial(
     piths: &[PithAxis],
     all: &ContourSet,
     pixels: &(Vec<Vec3>, Vec<f32>),
-    marks: &[KnotMarks],
+    marks: &[MarkedKnot],
     cfg: &FitConfig,
     log: &mut Vec<LossRow>,
     progress: Progress,
@@ -312,18 +312,17 @@ fn start_trial(
     pith: &PithAxis,
     all: &ContourSet,
     pixels: &(Vec<Vec3>, Vec<f32>),
-    marks: &[KnotMarks],
+    marks: &[MarkedKnot],
     cfg: &FitConfig,
 ) -> Trial {
     let ypu = years_per_unit(pith, pixels, cfg);
-    let knots: Vec<KnotConfig> = marks
-        .iter()
-        .map(|m| m.initial_knot(pith, cfg.knots.radius))
-        .collect();
-    let step2 = prepare_step2(pith, ypu, &knots, all.clone(), pixels.clone(), cfg);
+    let knots: Vec<KnotConfig> = marks.iter().map(|m| m.initial_knot(pith)).collect();
+    let anchors = marks.iter().map(MarkedKnot::points).collect();
+    let step2 = prepare_step2(pith, ypu, &knots, all.clone(), pixels.clone(), cfg)
+        .with_knot_anchors(anchors, cfg.knots.lambda_anchor);
     let params = Step2Params {
         theta: vec![0.0; step2.layout.rates.len()],
-        map: initial_map(&step2, &knots, cfg.distortion.map_nodes),
+        map: initial_map(&step2, &knots, map_nodes(&step2.range, cfg)),
         knots,
     };
     Trial { step2, params }
@@ -341,11 +340,10 @@ impl crate::texture::SolidTexture for PithRadius {
     }
 }
 
-/// Ring-image samples of the used faces: every `image_stride`-th pixel away from the border.
-fn ring_pixels(sample: &Sample, cfg: &FitConfig) -> (Vec<Vec3>, Vec<f32>) {
+/// Ring-image samples of the used faces: every `stride`-th pixel away from the border, as
+/// 3D points and grey values.
+fn face_pixels(sample: &Sample, border: usize, stride: usize) -> (Vec<Vec3>, Vec<f32>) {
     let (mut points, mut targets) = (Vec::new(), Vec::new());
-    let stride = cfg.distortion.image_stride;
-    let border = cfg.contours.border;
     for &face in &sample.faces {
         let Some(arl) = sample.ring_image(face) else {
             continue;
@@ -362,19 +360,16 @@ fn ring_pixels(sample: &Sample, cfg: &FitConfig) -> (Vec<Vec3>, Vec<f32>) {
 }
 
 /// Years per cube unit from the ring spacing along r: the ring images binned over r around
-/// the step-1 pith give a grey profile whose peaks are the rings.
+/// the pith give a grey profile whose peaks are the rings.
 fn years_per_unit(
     pith: &PithAxis,
     (points, targets): &(Vec<Vec3>, Vec<f32>),
     cfg: &FitConfig,
 ) -> f32 {
     let radii: Vec<f32> = points.iter().map(|&p| pith.radius(p)).collect();
-    let range = GRange::of(&radii, 0.0);
-    let ts: Vec<f32> = radii.iter().map(|&r| range.t(r)).collect();
-    let profile = grey_map::binned_means(&ts, targets, 2 * cfg.distortion.map_nodes);
-    let peaks = ring_peaks(&profile, &cfg.rings);
+    let peaks = profile_peaks(&radii, targets, SPACING_BINS, &cfg.rings);
     match median_spacing(&peaks) {
-        Some(s) if s > 0.0 => 1.0 / (s * (range.hi - range.lo)),
+        Some(s) if s > 0.0 => 1.0 / s,
         _ => FALLBACK_YEARS_PER_UNIT,
     }
 }
@@ -418,6 +413,12 @@ fn start_field(pith: &PithAxis, ypu: f32, knots: &[KnotConfig]) -> GrowthField {
     })
 }
 
+/// Nodes of M over `range` (at least 16, at most 8192).
+fn map_nodes(range: &GRange, cfg: &FitConfig) -> usize {
+    let nodes = ((range.hi - range.lo) * cfg.distortion.map_nodes_per_year).round();
+    (nodes as usize).clamp(16, 8192)
+}
+
 /// M's start: the mean ring-image grey over the pixels nearest each node.
 fn initial_map(step2: &Step2, knots: &[KnotConfig], nodes: usize) -> Vec<f32> {
     let start = start_field(&step2.pith, step2.years_per_unit, knots);
@@ -430,11 +431,20 @@ fn initial_map(step2: &Step2, knots: &[KnotConfig], nodes: usize) -> Vec<f32> {
     grey_map::binned_means(&ts, &data.targets, nodes)
 }
 
-/// The ring positions (raw stem time) from the fitted grey map's peaks.
-fn rings_of(map: &[f32], range: &GRange, cfg: &FitConfig) -> Option<RingsConfig> {
-    let at: Vec<f32> = ring_peaks(map, &cfg.rings)
+/// Bins per year of the fine grey profile whose peaks are the rings (`ring_peaks`).
+const RING_BINS_PER_YEAR: f32 = 16.0;
+/// Bins of the grey profile over r that gives the ring spacing before step 2.
+const SPACING_BINS: usize = 512;
+
+/// The ring positions (raw stem time) of the fitted field: peaks of the ring images of all
+/// face pixels binned by G.
+fn rings_of(field: &GrowthField, sample: &Sample, cfg: &FitConfig) -> Option<RingsConfig> {
+    let (points, targets) = face_pixels(sample, cfg.contours.border, 1);
+    let g: Vec<f32> = points.iter().map(|&p| field.raw_sample(p).g).collect();
+    let range = GRange::of(&g, 0.0);
+    let bins = ((range.hi - range.lo) * RING_BINS_PER_YEAR).round() as usize;
+    let at: Vec<f32> = profile_peaks(&g, &targets, bins.clamp(64, 16_384), &cfg.rings)
         .into_iter()
-        .map(|t| range.g(t))
         .filter(|&g| g > 0.0)
         .collect();
     let spacing = median_spacing(&at).unwrap_or(1.0);
