@@ -179,11 +179,8 @@ fn lofo(cfg: &FitConfig) {
             let step1 = step1_rings(&r);
             let target = full.ring_image(held).expect("held-out ARL");
             let corr = |t: &dyn SolidTexture| {
-                image_correlation(
-                    &slice_face(t, held, target.width),
-                    target,
-                    cfg.contours.border,
-                )
+                let predicted = slice_face(t, held, target.width);
+                shifted_correlation(&predicted, target, cfg.contours.border, SHIFT)
             };
             let held_set = all_contours(&full, cfg, &[held]);
             let step1_field = Step1Field(r.step1_pith);
