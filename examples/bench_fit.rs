@@ -5,7 +5,7 @@
 //!     cargo run --release --example bench_fit -- lofo [CONFIG]
 //!
 //! - `synthetic`: samples written from field configs with known truth (near, far, tilted,
-//!   distorted, knotted) at 256 px; pith distance (cm) and direction (degrees) errors after
+//!   mildly and strongly distorted, knotted) at 256 px; pith distance (cm) and direction (degrees) errors after
 //!   step 1, iso-contour error (mm) of the sample's contours under the step-1 field and under
 //!   the final field, and correlation of the fitted ring image with the true one on the
 //!   faces and on the hidden cuts cut1/cut2.
@@ -80,7 +80,13 @@ const CASES: &[(&str, &str)] = &[
         "[pith]\norigin = [-1.6, 0.0, -1.2]\ndirection = [0.55, 1.0, 0.3]\n[growth]\nyears_per_unit = 10.0\n",
     ),
     (
-        "distorted (8 cm, rate grid)",
+        "mildly distorted (8 cm, rate grid amplitude 0.1)",
+        "[pith]\norigin = [0.35, 0.0, -2.0]\ndirection = [0.12, 1.0, 0.2]\n[growth]\n\
+         years_per_unit = 11.0\n[growth.distortion]\nseed = 7\namplitude = 0.1\n\
+         azimuthal_waves = 4\nradial_waves = 3\n",
+    ),
+    (
+        "distorted preset (8 cm, amplitude 0.25)",
         include_str!("../configs/fields/distorted.toml"),
     ),
     (

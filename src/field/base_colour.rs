@@ -7,7 +7,7 @@
 //! white-balanced colour x 2 x a mean: a face's own mean for that face, the mean over the
 //! fitted faces for cuts and volumes.
 //!
-//! Bars are piecewise linear over t = (G - g_range[0]) / (g_range[1] - g_range[0]), clamped
+//! Bars are piecewise linear over t = (G - lo) / (hi - lo) with `g_range = [lo, hi]`, clamped
 //! to [0, 1], with nodes evenly spaced over [0, 1]. Where a knot strand dominates, the knot
 //! bar takes over, blended over `knot_blend` years of (stem time - knot time) so that the knot
 //! boundary is soft rather than a seam.

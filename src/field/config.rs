@@ -20,7 +20,7 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use super::base_colour::BaseColour;
-use crate::config::{Checker, load_toml, parse_toml};
+use crate::config::{Checker, load_checked, parse_checked};
 use crate::error::Result;
 
 /// Largest coordinate accepted anywhere (cube units): 100 units = 4 m.
@@ -204,16 +204,12 @@ fn default_dead_sharpen() -> f32 {
 impl FieldConfig {
     /// Loads and validates a field config file.
     pub fn load(path: &Path) -> Result<Self> {
-        let cfg: FieldConfig = load_toml(path)?;
-        cfg.validate(&Checker::new(path))?;
-        Ok(cfg)
+        load_checked(path, Self::validate)
     }
 
     /// Parses and validates TOML text (`origin` names it in errors).
     pub fn parse(text: &str, origin: &Path) -> Result<Self> {
-        let cfg: FieldConfig = parse_toml(text, origin)?;
-        cfg.validate(&Checker::new(origin))?;
-        Ok(cfg)
+        parse_checked(text, origin, Self::validate)
     }
 
     /// Range checks of every value; keys in messages are relative to `check`'s prefix.

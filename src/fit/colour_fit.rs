@@ -13,6 +13,7 @@ use rayon::prelude::*;
 use super::adam::{Adam, cosine_lr};
 use super::config::ColourFitConfig;
 use super::iso_loss::{median, sign};
+use super::stem_basis::REDUCE_CHUNK;
 use crate::field::base_colour::bar_position;
 use crate::field::{BaseColour, GrowthField, WhiteBalance};
 use crate::frame::Face;
@@ -108,8 +109,8 @@ fn binned_medians(
     let mut bins: Vec<[Vec<f32>; 3]> = (0..nodes).map(|_| Default::default()).collect();
     for s in samples.iter().filter(|s| keep(s)) {
         let k = (s.t * (nodes - 1) as f32).round() as usize;
-        for c in 0..3 {
-            bins[k][c].push(s.target[c]);
+        for (bin, &v) in bins[k].iter_mut().zip(&s.target) {
+            bin.push(v);
         }
     }
     let filled: Vec<usize> = (0..nodes).filter(|&k| !bins[k][0].is_empty()).collect();
@@ -151,11 +152,12 @@ fn loss_and_gradient(
     let (nb, nk) = (colour.bar.len(), colour.knot_bar.len());
     let n_params = 3 * (nb + nk + 6);
     let count = (samples.len() * 3) as f32;
-    let (sum, mut grad) = samples
-        .par_iter()
-        .fold(
-            || (0.0f64, vec![0.0f32; n_params]),
-            |(mut sum, mut grad), s| {
+    // Fixed chunks summed in order: the result does not depend on thread scheduling.
+    let partials: Vec<(f64, Vec<f32>)> = samples
+        .par_chunks(REDUCE_CHUNK)
+        .map(|chunk| {
+            let (mut sum, mut grad) = (0.0f64, vec![0.0f32; n_params]);
+            for s in chunk {
                 let (i, f) = bar_position(s.t, nb);
                 let off = colour.face_offsets[s.face];
                 for c in 0..3 {
@@ -177,16 +179,16 @@ fn loss_and_gradient(
                     }
                     grad[3 * (nb + nk + s.face) + c] += g;
                 }
-                (sum, grad)
-            },
-        )
-        .reduce(
-            || (0.0, vec![0.0; n_params]),
-            |(s1, mut g1), (s2, g2)| {
-                g1.iter_mut().zip(g2).for_each(|(a, b)| *a += b);
-                (s1 + s2, g1)
-            },
-        );
+            }
+            (sum, grad)
+        })
+        .collect();
+    let mut sum = 0.0f64;
+    let mut grad = vec![0.0f32; n_params];
+    for (s, g) in partials {
+        sum += s;
+        grad.iter_mut().zip(g).for_each(|(a, b)| *a += b);
+    }
     let mut loss = (sum / count as f64) as f32;
     loss += bar_smoothness(&colour.bar, 0, &mut grad, cfg.lambda_smooth);
     loss += bar_smoothness(&colour.knot_bar, nb, &mut grad, cfg.lambda_smooth);

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use crate::config::{Checker, load_toml, parse_toml};
+use crate::config::{Checker, load_checked, parse_checked};
 use crate::error::Result;
 
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -238,19 +238,20 @@ impl Default for ColourFitConfig {
     }
 }
 
+/// A loss weight: finite, in [0, 1e6].
+fn weight(check: &Checker, key: &str, value: f32) -> Result<()> {
+    check.range(key, value, 0.0, 1e6, "a loss weight")
+}
+
 impl FitConfig {
     /// Loads and validates a fit config file.
     pub fn load(path: &Path) -> Result<Self> {
-        let cfg: FitConfig = load_toml(path)?;
-        cfg.validate(&Checker::new(path))?;
-        Ok(cfg)
+        load_checked(path, Self::validate)
     }
 
     /// Parses and validates TOML text (`origin` names it in errors).
     pub fn parse(text: &str, origin: &Path) -> Result<Self> {
-        let cfg: FitConfig = parse_toml(text, origin)?;
-        cfg.validate(&Checker::new(origin))?;
-        Ok(cfg)
+        parse_checked(text, origin, Self::validate)
     }
 
     pub fn validate(&self, check: &Checker) -> Result<()> {
@@ -367,22 +368,10 @@ impl DistortionFitConfig {
             "a ring shift per Adam step in cube units",
         )?;
         check.range("lr_map", self.lr_map, 0.0, 1.0, "an Adam step")?;
-        check.range("lambda_iso", self.lambda_iso, 0.0, 1e4, "a loss weight")?;
-        check.range("lambda_image", self.lambda_image, 0.0, 1e4, "a loss weight")?;
-        check.range(
-            "lambda_smooth",
-            self.lambda_smooth,
-            0.0,
-            1e4,
-            "a loss weight",
-        )?;
-        check.range(
-            "lambda_magnitude",
-            self.lambda_magnitude,
-            0.0,
-            1e4,
-            "a loss weight",
-        )?;
+        weight(check, "lambda_iso", self.lambda_iso)?;
+        weight(check, "lambda_image", self.lambda_image)?;
+        weight(check, "lambda_smooth", self.lambda_smooth)?;
+        weight(check, "lambda_magnitude", self.lambda_magnitude)?;
         check.range(
             "map_nodes_per_year",
             self.map_nodes_per_year,
@@ -443,13 +432,7 @@ impl KnotFitConfig {
             1.0,
             "the largest knot radius in cube units",
         )?;
-        check.range(
-            "lambda_anchor",
-            self.lambda_anchor,
-            0.0,
-            1e6,
-            "a loss weight",
-        )?;
+        weight(check, "lambda_anchor", self.lambda_anchor)?;
         check.range(
             "exclusion",
             self.exclusion,
@@ -466,20 +449,8 @@ impl ColourFitConfig {
         check.count("bar_nodes", self.bar_nodes, 2, 4096, "colour bar nodes")?;
         check.count("iterations", self.iterations, 0, 100_000, "Adam iterations")?;
         check.range("lr", self.lr, 0.0, 1.0, "an Adam step")?;
-        check.range(
-            "lambda_smooth",
-            self.lambda_smooth,
-            0.0,
-            1e4,
-            "a loss weight",
-        )?;
-        check.range(
-            "lambda_offset",
-            self.lambda_offset,
-            0.0,
-            1e4,
-            "a loss weight",
-        )?;
+        weight(check, "lambda_smooth", self.lambda_smooth)?;
+        weight(check, "lambda_offset", self.lambda_offset)?;
         check.count("pixel_stride", self.pixel_stride, 1, 64, "a pixel stride")?;
         check.positive("knot_blend", self.knot_blend, 1000.0, "years")
     }

@@ -28,15 +28,14 @@ pub fn iso_error_mm(field: &dyn SolidTexture, set: &ContourSet) -> f32 {
     let medians = contour_medians(set, &g);
     let h = 1e-3;
     let mut sum = 0.0f64;
-    for (c, &(a, b)) in set.ranges.iter().enumerate() {
-        for i in a..b {
-            let p = set.points[i];
+    for (&(a, b), &m) in set.ranges.iter().zip(&medians) {
+        for (&p, &gp) in set.points[a..b].iter().zip(&g[a..b]) {
             let grad = Vec3::new(
                 first(field, p + Vec3::X * h) - first(field, p - Vec3::X * h),
                 first(field, p + Vec3::Y * h) - first(field, p - Vec3::Y * h),
                 first(field, p + Vec3::Z * h) - first(field, p - Vec3::Z * h),
             ) / (2.0 * h);
-            sum += ((g[i] - medians[c]).abs() / grad.length().max(1e-6)) as f64;
+            sum += ((gp - m).abs() / grad.length().max(1e-6)) as f64;
         }
     }
     let mm_per_unit = CM_PER_UNIT * 10.0;

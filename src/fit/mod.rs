@@ -10,7 +10,7 @@
 //!    ([`grey_map`]) and knots ([`knot_init`] from the markers, [`knot_fit`]); ring iso-values
 //!    from M's peaks ([`ring_peaks`]), stored as the field's ring warp.
 //! 4. Base colour ([`colour_fit`]) on the white-balanced photos ([`white_balance`]).
-//! 5. [`run`] ties it together; [`write`] and [`sheet`] produce the files; [`metrics`]
+//! 5. [`run`] ties it together; [`write`](mod@write) and [`sheet`] produce the files; [`metrics`]
 //!    measures accuracy; [`synthetic`] writes samples with known truth for tests.
 //!
 //! Optimisation is plain Adam ([`adam`]) on analytic gradients (central differences only for

@@ -12,6 +12,7 @@
 use glam::Vec3;
 
 use super::adam::{Adam, cosine_lr};
+use super::config::PithFitConfig;
 use super::contours::ContourSet;
 use super::iso_loss::iso_loss;
 use crate::field::PithAxis;
@@ -44,24 +45,34 @@ pub fn loss_and_gradient(set: &ContourSet, origin: Vec3, direction: Vec3) -> (f3
     (loss, g_o, g_v)
 }
 
-/// The axis through the point of `(origin, direction)` closest to the cube centre.
-pub fn normalised_axis(origin: Vec3, direction: Vec3) -> (Vec3, Vec3) {
-    let v = direction.normalize();
+/// The axis through the point of `(origin, direction)` closest to the cube centre, its
+/// direction turned back onto the cone of `max_tilt` (radians) around the y axis if it left
+/// it (the coarse search's domain: faces B and D are end grain by convention).
+pub fn normalised_axis(origin: Vec3, direction: Vec3, max_tilt: f32) -> (Vec3, Vec3) {
+    let mut v = direction.normalize();
+    if v.y < 0.0 {
+        v = -v;
+    }
+    let tilt = v.y.clamp(-1.0, 1.0).acos();
+    if tilt > max_tilt {
+        let side = Vec3::new(v.x, 0.0, v.z).normalize_or(Vec3::X);
+        v = max_tilt.cos() * Vec3::Y + max_tilt.sin() * side;
+    }
     (origin - origin.dot(v) * v, v)
 }
 
-/// Adam on (O, V) from `start` for `iterations` steps; returns the best axis seen and its
-/// loss. The origin's step is scaled by the start's distance from the cube centre (at least
+/// Adam on (O, V) from `start` for `cfg.iterations` steps, the direction kept within
+/// `cfg.max_tilt_deg` of y; returns the best axis seen and its loss. The origin's step is scaled by the start's distance from the cube centre (at least
 /// 1): a far axis needs large moves to change the ring curvature noticeably.
 pub fn descend(
     set: &ContourSet,
     start: &PithAxis,
-    iterations: usize,
-    lr_origin: f32,
-    lr_direction: f32,
+    cfg: &PithFitConfig,
     mut log: impl FnMut(usize, f32),
 ) -> (PithAxis, f32) {
-    let (mut origin, mut dir) = normalised_axis(start.origin, start.dir);
+    let (iterations, max_tilt) = (cfg.iterations, cfg.max_tilt_deg.to_radians());
+    let (lr_origin, lr_direction) = (cfg.lr_origin, cfg.lr_direction);
+    let (mut origin, mut dir) = normalised_axis(start.origin, start.dir, max_tilt);
     let origin_scale = origin.length().max(1.0);
     let mut adam = Adam::new(6);
     let mut best = (PithAxis::new(origin, dir), f32::INFINITY);
@@ -82,6 +93,7 @@ pub fn descend(
         (origin, dir) = normalised_axis(
             Vec3::new(params[0], params[1], params[2]),
             Vec3::new(params[3], params[4], params[5]),
+            max_tilt,
         );
     }
     best

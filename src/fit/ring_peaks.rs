@@ -24,7 +24,7 @@ pub fn ring_peaks(map: &[f32], cfg: &RingPeakConfig) -> Vec<f32> {
     let n = map.len();
     let lo = map.iter().copied().fold(f32::INFINITY, f32::min);
     let hi = map.iter().copied().fold(f32::NEG_INFINITY, f32::max);
-    if !(hi > lo) {
+    if hi.partial_cmp(&lo) != Some(std::cmp::Ordering::Greater) {
         return Vec::new();
     }
     let threshold = lo + cfg.threshold * (hi - lo);
@@ -86,7 +86,7 @@ pub fn profile_peaks(
     cfg: &RingPeakConfig,
 ) -> Vec<f32> {
     let range = GRange::of(values, 0.0);
-    if !(range.hi > range.lo) {
+    if range.hi.partial_cmp(&range.lo) != Some(std::cmp::Ordering::Greater) {
         return Vec::new();
     }
     let ts: Vec<f32> = values.iter().map(|&v| range.t(v)).collect();

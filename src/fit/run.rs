@@ -224,25 +224,18 @@ fn refine_piths(
     let per = cfg.pith.iterations + 1;
     let mut refined: Vec<(PithAxis, f32)> = Vec::new();
     for (k, c) in candidates.iter().enumerate() {
-        let (axis, loss) = descend(
-            set,
-            &c.axis,
-            cfg.pith.iterations,
-            cfg.pith.lr_origin,
-            cfg.pith.lr_direction,
-            |it, loss| {
-                log.push(LossRow {
-                    stage: "pith",
-                    iteration: k * per + it,
-                    parts: LossParts {
-                        total: loss,
-                        iso: loss,
-                        ..Default::default()
-                    },
-                });
-                progress("pith descent", k * per + it + 1, cfg.pith.refine * per);
-            },
-        );
+        let (axis, loss) = descend(set, &c.axis, &cfg.pith, |it, loss| {
+            log.push(LossRow {
+                stage: "pith",
+                iteration: k * per + it,
+                parts: LossParts {
+                    total: loss,
+                    iso: loss,
+                    ..Default::default()
+                },
+            });
+            progress("pith descent", k * per + it + 1, cfg.pith.refine * per);
+        });
         refined.push((axis, loss));
     }
     refined.sort_by(|a, b| a.1.total_cmp(&b.1));

@@ -76,30 +76,35 @@ impl StemBasis {
     }
 
     /// sum_p weight_p x d integral_p / d clamped rate, for every rate (length `n_rates`).
+    /// Points are summed in fixed chunks, each chunk in parallel and the chunks in order, so
+    /// the result does not depend on thread scheduling (the fit must be deterministic).
     pub fn gradient(&self, weights: &[f32], n_rates: usize) -> Vec<f32> {
-        (0..self.len())
-            .into_par_iter()
-            .fold(
-                || vec![0.0f32; n_rates],
-                |mut acc, p| {
+        let chunks: Vec<Vec<f32>> = (0..self.len())
+            .collect::<Vec<usize>>()
+            .par_chunks(REDUCE_CHUNK)
+            .map(|points| {
+                let mut acc = vec![0.0f32; n_rates];
+                for &p in points {
                     let w = weights[p];
                     if w != 0.0 {
                         for e in self.offsets[p]..self.offsets[p + 1] {
                             acc[self.index[e] as usize] += w * self.coef[e];
                         }
                     }
-                    acc
-                },
-            )
-            .reduce(
-                || vec![0.0f32; n_rates],
-                |mut a, b| {
-                    a.iter_mut().zip(b).for_each(|(x, y)| *x += y);
-                    a
-                },
-            )
+                }
+                acc
+            })
+            .collect();
+        let mut total = vec![0.0f32; n_rates];
+        for chunk in chunks {
+            total.iter_mut().zip(chunk).for_each(|(t, c)| *t += c);
+        }
+        total
     }
 }
+
+/// Points per partial sum of a deterministic parallel reduction.
+pub const REDUCE_CHUNK: usize = 4096;
 
 /// Sums the coefficients of repeated indices (the height interpolation repeats end nodes).
 fn merge_duplicates(entries: &[(usize, f32)]) -> Vec<(usize, f32)> {
