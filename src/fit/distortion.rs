@@ -191,24 +191,8 @@ impl Step2 {
         let mut d_iso = vec![0.0; iso_v.g.len()];
         let iso = iso_loss(&self.data.iso, &iso_v.g, Some(&mut d_iso)) / ypu;
         let (image, d_pix, d_map) = self.image_loss(&params.map, &pix_v.g);
-        let (smooth, d_smooth) = smoothness(&params.theta, &self.layout);
         let c = &self.cfg;
-        let count = params.theta.len().max(1) as f32;
-        let magnitude = params.theta.iter().map(|t| t * t).sum::<f32>() / count;
-        let mut penalty = c.lambda_smooth * smooth + c.lambda_magnitude * magnitude;
-        let mut knots_grad = vec![0.0; params.knots.len() * KNOT_PARAMS];
-        for ((knot, marks), g) in params
-            .knots
-            .iter()
-            .zip(&self.anchors)
-            .zip(knots_grad.chunks_mut(KNOT_PARAMS))
-        {
-            let (p, d) = anchor_penalty(knot, marks);
-            penalty += self.lambda_anchor * p;
-            g.iter_mut()
-                .zip(d)
-                .for_each(|(g, d)| *g = self.lambda_anchor * d);
-        }
+        let (penalty, d_penalty, mut knots_grad) = self.penalties(params);
         let parts = LossParts {
             total: c.lambda_iso * iso + c.lambda_image * image + penalty,
             iso,
@@ -234,30 +218,48 @@ impl Step2 {
         let theta = (0..n)
             .map(|e| {
                 let through_clamp = if rates[e] > min_rate { rates[e] } else { 0.0 };
-                (g_iso[e] + g_pix[e]) * through_clamp
-                    + c.lambda_smooth * d_smooth[e]
-                    + c.lambda_magnitude * 2.0 * params.theta[e] / count
+                (g_iso[e] + g_pix[e]) * through_clamp + d_penalty[e]
             })
             .collect();
         let map = d_map.iter().map(|d| c.lambda_image * d).collect();
-        for (w, v) in [(&w_iso, &iso_v), (&w_pix, &pix_v)] {
-            if v.d_knots.is_empty() {
-                continue;
-            }
-            for (p, &wp) in w.iter().enumerate() {
-                let row = &v.d_knots[p * knots_grad.len()..(p + 1) * knots_grad.len()];
-                knots_grad
-                    .iter_mut()
-                    .zip(row)
-                    .for_each(|(k, d)| *k += wp * d);
-            }
-        }
+        add_knot_gradient(&mut knots_grad, &w_iso, &iso_v);
+        add_knot_gradient(&mut knots_grad, &w_pix, &pix_v);
         let grad = Step2Gradient {
             theta,
             map,
             knots: knots_grad,
         };
         (parts, Some(grad))
+    }
+
+    /// The weighted penalties (smoothness and magnitude of the log rates, knot anchors), their
+    /// gradient in theta and their gradient in the knot parameters.
+    fn penalties(&self, params: &Step2Params) -> (f32, Vec<f32>, Vec<f32>) {
+        let c = &self.cfg;
+        let (smooth, d_smooth) = smoothness(&params.theta, &self.layout);
+        let count = params.theta.len().max(1) as f32;
+        let magnitude = params.theta.iter().map(|t| t * t).sum::<f32>() / count;
+        let mut penalty = c.lambda_smooth * smooth + c.lambda_magnitude * magnitude;
+        let d_theta = params
+            .theta
+            .iter()
+            .zip(&d_smooth)
+            .map(|(t, ds)| c.lambda_smooth * ds + c.lambda_magnitude * 2.0 * t / count)
+            .collect();
+        let mut d_knots = vec![0.0; params.knots.len() * KNOT_PARAMS];
+        for ((knot, marks), g) in params
+            .knots
+            .iter()
+            .zip(&self.anchors)
+            .zip(d_knots.chunks_mut(KNOT_PARAMS))
+        {
+            let (p, d) = anchor_penalty(knot, marks);
+            penalty += self.lambda_anchor * p;
+            g.iter_mut()
+                .zip(d)
+                .for_each(|(g, d)| *g = self.lambda_anchor * d);
+        }
+        (penalty, d_theta, d_knots)
     }
 
     /// mean |M(t(G)) - target|, dL/dG per pixel and dL/dM.
@@ -334,6 +336,17 @@ fn rate_levers(layout: &RateGrid) -> Vec<f32> {
             _ => dr,
         })
         .collect()
+}
+
+/// Adds sum_p w_p x dG_p/dknot parameter to `grad` (nothing without knots).
+fn add_knot_gradient(grad: &mut [f32], w: &[f32], values: &PointValues) {
+    if values.d_knots.is_empty() {
+        return;
+    }
+    let np = grad.len();
+    for (row, &wp) in values.d_knots.chunks(np).zip(w) {
+        grad.iter_mut().zip(row).for_each(|(k, d)| *k += wp * d);
+    }
 }
 
 struct PointValues {

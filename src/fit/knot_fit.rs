@@ -52,7 +52,6 @@ pub struct KnotVariants {
     base: Vec<Knot>,
     /// `[param][sign]`: the knot set with knot `param / KNOT_PARAMS`'s parameter moved.
     moved: Vec<[Vec<Knot>; 2]>,
-    steps: Vec<f32>,
 }
 
 impl KnotVariants {
@@ -61,7 +60,6 @@ impl KnotVariants {
             cfgs.iter().map(|k| Knot::new(k, pith_dir)).collect()
         };
         let mut moved = Vec::new();
-        let mut steps = Vec::new();
         for (i, k) in cfgs.iter().enumerate() {
             let params = knot_params(k);
             for j in 0..KNOT_PARAMS {
@@ -76,13 +74,11 @@ impl KnotVariants {
                     build(&all)
                 });
                 moved.push(sets);
-                steps.push(PARAM_STEP);
             }
         }
         Self {
             base: build(cfgs),
             moved,
-            steps,
         }
     }
 
@@ -107,10 +103,10 @@ impl KnotVariants {
         let up = knot_union(&self.base, p, stem + STEM_STEP, ypu).g;
         let down = knot_union(&self.base, p, (stem - STEM_STEP).max(0.0), ypu).g;
         let d_stem = (up - down) / (stem + STEM_STEP - (stem - STEM_STEP).max(0.0));
-        for ((d, [minus, plus]), h) in d_params.iter_mut().zip(&self.moved).zip(&self.steps) {
+        for (d, [minus, plus]) in d_params.iter_mut().zip(&self.moved) {
             let gp = knot_union(plus, p, stem, ypu).g;
             let gm = knot_union(minus, p, stem, ypu).g;
-            *d = (gp - gm) / (2.0 * h);
+            *d = (gp - gm) / (2.0 * PARAM_STEP);
         }
         (g, d_stem)
     }

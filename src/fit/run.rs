@@ -27,7 +27,8 @@ use super::white_balance::{balance, white_balance};
 use crate::config::Checker;
 use crate::error::{Result, XylemError};
 use crate::field::{
-    FieldConfig, GrowthConfig, GrowthField, KnotConfig, PithAxis, PithConfig, RingsConfig,
+    BaseColour, FieldConfig, GrowthConfig, GrowthField, KnotConfig, PithAxis, PithConfig,
+    RingsConfig,
 };
 use crate::frame::Face;
 use crate::image2::Image2;
@@ -103,41 +104,79 @@ pub fn fit_sample(sample: &Sample, cfg: &FitConfig, progress: Progress) -> Resul
     seconds[1] = clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
-    let pixels = face_pixels(sample, cfg.contours.border, cfg.distortion.image_stride);
-    let trial = best_trial(&piths, &all, &pixels, &marks, cfg, &mut log, progress);
-    let step2 = trial.step2;
-    let pith = step2.pith;
-    let iso_step1 = axis_loss(&all, &pith);
-    let iso_mm_step1 = iso_error_mm(&PithRadius(pith), &all);
-    let iterations = cfg.distortion.iterations;
-    let (fitted, _) = step2.fit(trial.params, iterations, &cfg.knots, |it, parts| {
-        log.push(LossRow {
-            stage: "distortion",
-            iteration: it,
-            parts: *parts,
-        });
-        progress("distortion", it, iterations);
-    });
-    let mut field = field_config(&step2, &fitted, None);
-    field.growth.rings = rings_of(&GrowthField::from_config(&field), sample, cfg);
+    let (step2, mut field) = fit_distortions(sample, cfg, &all, &marks, &piths, &mut log, progress);
     seconds[2] = clock.elapsed().as_secs_f64();
 
     let clock = Instant::now();
     let growth = GrowthField::from_config(&field);
-    let iso_step2 = final_iso(&growth, &all, step2.years_per_unit);
-    let iso_mm_step2 = iso_error_mm(&growth, &all);
+    field.base_colour = Some(fit_colour(sample, cfg, &growth, &mut log, progress));
+    field.validate(&Checker::new(&sample.dir.join("fit.toml")))?;
+    seconds[3] = clock.elapsed().as_secs_f64();
+    let pith = step2.pith;
+    Ok(FitResult {
+        step1_pith: pith,
+        iso_step1: axis_loss(&all, &pith),
+        iso_step2: final_iso(&growth, &all, step2.years_per_unit),
+        iso_mm_step1: iso_error_mm(&PithRadius(pith), &all),
+        iso_mm_step2: iso_error_mm(&growth, &all),
+        contours: all.len(),
+        contour_points: all.points.len(),
+        field,
+        loss_log: log,
+        seconds,
+    })
+}
+
+/// Step 2: the best trial pith, its rates, grey map and knots fitted, and the ring positions.
+/// Returns the step-2 problem (its pith and years per unit) and the fitted field config
+/// without base colour.
+fn fit_distortions(
+    sample: &Sample,
+    cfg: &FitConfig,
+    all: &ContourSet,
+    marks: &[MarkedKnot],
+    piths: &[PithAxis],
+    log: &mut Vec<LossRow>,
+    progress: Progress,
+) -> (Step2, FieldConfig) {
+    let pixels = face_pixels(sample, cfg.contours.border, cfg.distortion.image_stride);
+    let trial = best_trial(piths, all, &pixels, marks, cfg, log, progress);
+    let iterations = cfg.distortion.iterations;
+    let (fitted, _) = trial
+        .step2
+        .fit(trial.params, iterations, &cfg.knots, |it, parts| {
+            log.push(LossRow {
+                stage: "distortion",
+                iteration: it,
+                parts: *parts,
+            });
+            progress("distortion", it, iterations);
+        });
+    let mut field = field_config(&trial.step2, &fitted, None);
+    field.growth.rings = rings_of(&GrowthField::from_config(&field), sample, cfg);
+    (trial.step2, field)
+}
+
+/// The base colour of the fitted field on the white-balanced photos.
+fn fit_colour(
+    sample: &Sample,
+    cfg: &FitConfig,
+    growth: &GrowthField,
+    log: &mut Vec<LossRow>,
+    progress: Progress,
+) -> BaseColour {
     let wb = white_balance(&sample.photos, &sample.faces);
     let balanced: [Option<Image2>; 6] = std::array::from_fn(|f| {
         sample.photos[f]
             .as_ref()
             .map(|p| balance(p, wb.face_means[f]))
     });
-    let colour_iterations = cfg.colour.iterations;
-    let colour = fit_base_colour(
-        &growth,
+    let iterations = cfg.colour.iterations;
+    fit_base_colour(
+        growth,
         &balanced,
         &sample.faces,
-        g_range(&growth),
+        g_range(growth),
         wb,
         &cfg.colour,
         |it, loss| {
@@ -150,24 +189,9 @@ pub fn fit_sample(sample: &Sample, cfg: &FitConfig, progress: Progress) -> Resul
                     ..Default::default()
                 },
             });
-            progress("colour", it, colour_iterations);
+            progress("colour", it, iterations);
         },
-    );
-    field.base_colour = Some(colour);
-    field.validate(&Checker::new(&sample.dir.join("fit.toml")))?;
-    seconds[3] = clock.elapsed().as_secs_f64();
-    Ok(FitResult {
-        field,
-        step1_pith: pith,
-        iso_step1,
-        iso_step2,
-        iso_mm_step1,
-        iso_mm_step2,
-        contours: all.len(),
-        contour_points: all.points.len(),
-        loss_log: log,
-        seconds,
-    })
+    )
 }
 
 /// Contours of every used face; an error if there are too few to fit anything.
