@@ -7,7 +7,8 @@
 //! - [`texture`]: the one solid-texture interface every source of wood implements.
 //! - [`volume`]: dense voxel volumes with trilinear lookup (a solid texture too).
 //! - [`field`]: the procedural growth field G(p) (pith axis, rate grid, knots) and the ring
-//!   localisation image I(G).
+//!   localisation image I(G), fitted ring positions and the base colour bar over G.
+//! - [`fit`]: fitting the growth field and base colour to a sample's six faces (`xylem fit`).
 //! - [`slice`]: sampling any solid texture on faces, cuts and planes; the unfolded cross.
 //! - [`image2`]: the float image type slices are returned in.
 //! - [`outputs`]: the standard set of faces, cuts and unfolded cross written for a texture.
@@ -28,6 +29,7 @@ pub mod device;
 pub mod error;
 pub mod export;
 pub mod field;
+pub mod fit;
 pub mod frame;
 pub mod image2;
 pub mod io;

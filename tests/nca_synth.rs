@@ -2,6 +2,7 @@
 //! colour B exactly, in photo colours and in the volume axis order.
 
 use burn::tensor::Device;
+use xylem::field::{BaseColour, FieldConfig, WhiteBalance};
 use xylem::frame::Face;
 use xylem::nca::ModelSpec;
 use xylem::nca::conditioning::CondChannel;
@@ -12,21 +13,50 @@ use xylem::nca::synth::{SynthOptions, synthesise};
 use xylem::presets::load_field_preset;
 use xylem::texture::SolidTexture;
 
+/// A fitted field: a preset with a two-node base colour bar, as `xylem fit` writes it.
+fn fitted(preset: &str) -> FieldConfig {
+    let mut field = load_field_preset(preset).unwrap();
+    let mean = [0.6, 0.45, 0.3];
+    field.base_colour = Some(BaseColour {
+        g_range: [0.0, 20.0],
+        bar: vec![[0.6, 0.5, 0.45], [0.35, 0.3, 0.25]],
+        knot_bar: vec![],
+        knot_blend: 1.0,
+        face_offsets: [[0.0; 3]; 6],
+        white_balance: WhiteBalance {
+            face_means: [mean; 6],
+            mean,
+        },
+    });
+    field
+}
+
 #[test]
 fn identity_model_synthesises_the_base_colour() {
+    let ramp = FitRecord {
+        field: load_field_preset("knot_alive").unwrap(),
+        base_colour: Some(RampColours {
+            light: [0.8, 0.6, 0.4],
+            dark: [0.3, 0.2, 0.1],
+        }),
+    };
+    let real = FitRecord {
+        field: fitted("knot_alive"),
+        base_colour: None,
+    };
+    for fit in [ramp, real] {
+        identity_reproduces_b(fit);
+    }
+}
+
+/// An untrained model unrolled from a zero seed gives B (in photo colours) at every voxel.
+fn identity_reproduces_b(fit: FitRecord) {
     let device = Device::flex();
     let spec = ModelSpec {
         hidden: 8,
         seed_amplitude: 0.0,
         conditioning: vec![CondChannel::GreyB, CondChannel::G, CondChannel::RingPhase],
         ..ModelSpec::default()
-    };
-    let fit = FitRecord {
-        field: load_field_preset("knot_alive").unwrap(),
-        base_colour: RampColours {
-            light: [0.8, 0.6, 0.4],
-            dark: [0.3, 0.2, 0.1],
-        },
     };
     let normalisation = fit.conditioning().normalisation([0.6, 0.45, 0.3]);
     let trained = TrainedModel {

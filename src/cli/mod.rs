@@ -3,6 +3,7 @@
 mod demo_cmd;
 mod export_cmd;
 mod field_cmd;
+mod fit_cmd;
 mod mesh_cmd;
 mod output_args;
 mod presets;
@@ -33,14 +34,15 @@ pub enum Command {
     Demo(demo_cmd::DemoArgs),
     Export(export_cmd::ExportArgs),
     Field(field_cmd::FieldArgs),
+    Fit(fit_cmd::FitArgs),
     MeshBowl(mesh_cmd::MeshBowlArgs),
+    Procedural(procedural_cmd::ProceduralArgs),
     Render(render_cmd::RenderArgs),
     Report(report_cmd::ReportArgs),
-    Procedural(procedural_cmd::ProceduralArgs),
     Sample(sample_cmd::SampleArgs),
     Slice(slice_cmd::SliceArgs),
-    Train(train_cmd::TrainArgs),
     Synth(synth_cmd::SynthArgs),
+    Train(train_cmd::TrainArgs),
 }
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {
@@ -48,13 +50,14 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Demo(a) => demo_cmd::run(a),
         Command::Export(a) => export_cmd::run(a),
         Command::Field(a) => field_cmd::run(a),
+        Command::Fit(a) => fit_cmd::run(a),
         Command::MeshBowl(a) => mesh_cmd::run(a),
+        Command::Procedural(a) => procedural_cmd::run(a),
         Command::Render(a) => render_cmd::run(a),
         Command::Report(a) => report_cmd::run(a),
-        Command::Procedural(a) => procedural_cmd::run(a),
         Command::Sample(a) => sample_cmd::run(a),
         Command::Slice(a) => slice_cmd::run(a),
-        Command::Train(a) => train_cmd::run(a),
         Command::Synth(a) => synth_cmd::run(a),
+        Command::Train(a) => train_cmd::run(a),
     }
 }
