@@ -9,6 +9,9 @@
 //!   step 1, iso-contour error (mm) of the sample's contours under the step-1 field and under
 //!   the final field, and correlation of the fitted ring image with the true one on the
 //!   faces and on the hidden cuts cut1/cut2.
+//! - `samples`: the same figures on `xylem sample` output (procedural colour photos, exact ring
+//!   images, truth in `truth/field.toml`) of the species presets chestnut, softwood (knot)
+//!   and oak (ring widths vary by year, so its ring images are not exactly I(G) of the truth).
 //! - `real`: CN03 and H11 (from XYLEM_MOKUME_DIR or ../shared/data/mokume): iso-contour loss
 //!   (cube units) and error (mm) after step 1 and step 2, seconds per stage.
 //! - `lofo`: leave-one-face-out on CN03 and H11: fit on five faces, then on the held-out
@@ -41,6 +44,7 @@ fn main() {
     };
     match mode {
         "synthetic" => synthetic(&cfg),
+        "samples" => samples(&cfg),
         "real" => real(&cfg),
         "lofo" => lofo(&cfg),
         other => panic!("unknown mode {other:?}; expected synthetic, real or lofo"),
@@ -95,19 +99,45 @@ const CASES: &[(&str, &str)] = &[
     ),
 ];
 
-fn synthetic(cfg: &FitConfig) {
-    let root = std::env::temp_dir().join(format!("xylem-bench-fit-{}", std::process::id()));
+fn table_header() {
     println!(
         "| case | pith distance error (cm) | direction error (deg) | iso error step 1 (mm) | iso error step 2 (mm) | iso error of truth (mm) | faces corr. | cut1 corr. | cut2 corr. | time (s) |"
     );
     println!("|---|---|---|---|---|---|---|---|---|---|");
+}
+
+fn synthetic(cfg: &FitConfig) {
+    let root = std::env::temp_dir().join(format!("xylem-bench-fit-{}", std::process::id()));
+    table_header();
     for (k, (name, text)) in CASES.iter().enumerate() {
         let truth_cfg = FieldConfig::parse(text, Path::new(name)).expect("case config");
         let dir = root.join(format!("case{k}"));
         write_synthetic_sample(&dir, &truth_cfg, SIZE).expect("synthetic sample");
-        let sample = load(&dir, &Face::ALL);
+        report_case(name, &truth_cfg, &dir, cfg);
+    }
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+fn samples(cfg: &FitConfig) {
+    let root = std::env::temp_dir().join(format!("xylem-bench-fit-samples-{}", std::process::id()));
+    table_header();
+    for species in ["chestnut", "softwood", "oak"] {
+        let dir = root.join(species);
+        let wood = xylem::presets::load_species_preset(species).expect("species preset");
+        let out = xylem::io::OutputDir::prepare(&dir).expect("sample folder");
+        xylem::procedural::write_sample(&wood, species, SIZE, &out).expect("xylem sample");
+        let truth_cfg = FieldConfig::load(&dir.join("truth/field.toml")).expect("truth field");
+        report_case(&format!("xylem sample --preset {species}"), &truth_cfg, &dir, cfg);
+    }
+    let _ = std::fs::remove_dir_all(&root);
+}
+
+/// Fits the sample in `dir` and prints one table row against its true field.
+fn report_case(name: &str, truth_cfg: &FieldConfig, dir: &Path, cfg: &FitConfig) {
+    {
+        let sample = load(dir, &Face::ALL);
         let (result, secs) = fit(&sample, cfg);
-        let truth = GrowthField::from_config(&truth_cfg);
+        let truth = GrowthField::from_config(truth_cfg);
         let fitted = GrowthField::from_config(&result.field);
         let (dist, angle) = axis_errors(&result.step1_pith, &truth.pith);
         let set = all_contours(&sample, cfg, &Face::ALL);
@@ -134,7 +164,6 @@ fn synthetic(cfg: &FitConfig) {
             cut(Plane::cut2()),
         );
     }
-    let _ = std::fs::remove_dir_all(&root);
 }
 
 fn mokume_dir() -> PathBuf {
