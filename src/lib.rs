@@ -19,6 +19,10 @@
 //! - [`sample`]: sample folders in the Mokume layout (photos, ring images, knot markers).
 //! - [`rng`]: seeded, hash-based randomness (same seed, same output).
 //! - [`device`]: choosing burn's CPU device (flex or ndarray) at run time.
+//! - [`loss`]: the VGG-free style loss (fixed-filter features, sliced Wasserstein, Gram,
+//!   moments, colour) that the NCA trains with.
+//! - [`metrics`]: comparison metrics (ring alignment, grain direction, patch texture distance
+//!   on Lab, lightness and chroma, colour differences) and `xylem compare`'s JSON.
 //! - [`procedural`]: the procedural wood model (rings, pores, rays, fibres, knots, figure,
 //!   burl) and synthetic sample cubes made from species presets.
 
@@ -30,6 +34,8 @@ pub mod field;
 pub mod frame;
 pub mod image2;
 pub mod io;
+pub mod loss;
+pub mod metrics;
 pub mod outputs;
 pub mod presets;
 pub mod procedural;

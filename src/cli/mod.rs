@@ -1,5 +1,6 @@
 //! Sub-commands of `xylem`, one file each.
 
+mod compare_cmd;
 mod demo_cmd;
 mod export_cmd;
 mod field_cmd;
@@ -11,6 +12,7 @@ mod render_cmd;
 mod report_cmd;
 mod sample_cmd;
 mod slice_cmd;
+mod texture2d_cmd;
 mod texture_source;
 
 use clap::{Parser, Subcommand};
@@ -28,6 +30,7 @@ pub struct Cli {
 
 #[derive(Subcommand, Debug)]
 pub enum Command {
+    Compare(compare_cmd::CompareArgs),
     Demo(demo_cmd::DemoArgs),
     Export(export_cmd::ExportArgs),
     Field(field_cmd::FieldArgs),
@@ -37,10 +40,12 @@ pub enum Command {
     Procedural(procedural_cmd::ProceduralArgs),
     Sample(sample_cmd::SampleArgs),
     Slice(slice_cmd::SliceArgs),
+    Texture2d(texture2d_cmd::Texture2dArgs),
 }
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
+        Command::Compare(a) => compare_cmd::run(a),
         Command::Demo(a) => demo_cmd::run(a),
         Command::Export(a) => export_cmd::run(a),
         Command::Field(a) => field_cmd::run(a),
@@ -50,5 +55,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Procedural(a) => procedural_cmd::run(a),
         Command::Sample(a) => sample_cmd::run(a),
         Command::Slice(a) => slice_cmd::run(a),
+        Command::Texture2d(a) => texture2d_cmd::run(a),
     }
 }
