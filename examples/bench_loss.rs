@@ -3,7 +3,7 @@
 //! projections; plus the one-off target computation. Also times `Comparer::compare` on two
 //! 256 px photos.
 //!
-//!     XYLEM_MOKUME_DIR=/work/shared/data/mokume cargo run --release --example bench_loss [-- ROUNDS]
+//!     XYLEM_MOKUME_DIR=/work/shared/data/mokume cargo run --release --example bench_loss [-- ROUNDS [flex|ndarray]]
 //!
 //! Reports the median and best of ROUNDS (default 5) timed rounds after one warm-up, with
 //! the process CPU time over the timed rounds (the machine is shared; see BENCHMARKS.md).
@@ -109,7 +109,11 @@ fn main() {
         cfg.features_per_layer(),
         cfg.swd.projections
     );
-    for kind in [DeviceKind::Flex, DeviceKind::Ndarray] {
+    let kinds: Vec<DeviceKind> = match std::env::args().nth(2) {
+        Some(name) => vec![name.parse().expect("flex or ndarray")],
+        None => vec![DeviceKind::Flex, DeviceKind::Ndarray],
+    };
+    for kind in kinds {
         for redraw in [false, true] {
             for size in [64, 128] {
                 bench(kind, redraw, size, rounds, &faces);

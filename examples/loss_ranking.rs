@@ -12,17 +12,6 @@ use xylem::Image2;
 use xylem::io::load_rgb;
 use xylem::loss::{LossConfig, StyleLoss, image_to_tensor, white_balance};
 
-fn crop(img: &Image2, row: usize, col: usize, side: usize) -> Image2 {
-    let mut out = Image2::filled(side, side, img.channels, 0.0);
-    for r in 0..side {
-        for c in 0..side {
-            out.pixel_mut(r, c)
-                .copy_from_slice(img.pixel(row + r, col + c));
-        }
-    }
-    out
-}
-
 fn main() {
     let dir = std::env::var_os("XYLEM_MOKUME_DIR")
         .map(PathBuf::from)
@@ -50,19 +39,21 @@ fn main() {
     println!("   holds");
     let mut holds = 0;
     for (i, face) in faces.iter().enumerate() {
-        let targets = loss.targets(&[crop(face, 0, 0, 128)]).expect("targets");
+        let targets = loss
+            .targets(&[face.crop(0, 0, 128, 128).unwrap()])
+            .expect("targets");
         let score = |img: &Image2| {
             loss.loss(&[image_to_tensor(img, &device)], &targets, &[0])
                 .expect("loss")
                 .into_scalar::<f32>()
         };
-        let same_crop = score(&crop(face, 128, 128, 128));
-        let row: Vec<f32> = faces.iter().map(|f| score(&crop(f, 64, 64, 128))).collect();
+        let same_crop = score(&face.crop(128, 128, 128, 128).unwrap());
+        let row: Vec<f32> = faces
+            .iter()
+            .map(|f| score(&f.crop(64, 64, 128, 128).unwrap()))
+            .collect();
         let cube = i / 6;
-        let closest_other = (0..12)
-            .filter(|&j| j / 6 != cube)
-            .map(|j| row[j])
-            .fold(f32::INFINITY, f32::min);
+        let closest_other = closest(&row, |j| j / 6 != cube);
         let same_cube_closer = (0..12)
             .filter(|&j| j / 6 == cube && j != i)
             .filter(|&j| row[j] < closest_other)
@@ -81,4 +72,47 @@ fn main() {
         );
     }
     println!("other crop closer than every face of the other cube: {holds}/12 targets");
+    whole_faces(&loss, &names, &faces, &device);
+}
+
+/// The smallest score among the columns `keep` accepts.
+fn closest(row: &[f32], keep: impl Fn(usize) -> bool) -> f32 {
+    (0..row.len())
+        .filter(|&j| keep(j))
+        .map(|j| row[j])
+        .fold(f32::INFINITY, f32::min)
+}
+
+/// The same with whole faces: each face's statistics as the target (what the NCA trains
+/// against), every other whole face as the candidate.
+fn whole_faces(loss: &StyleLoss, names: &[(String, String)], faces: &[Image2], device: &Device) {
+    println!("\nwhole faces (256 px) against whole faces:");
+    print!("{:>8}", "target");
+    for (c, f) in names {
+        print!(" {:>9}", format!("{c}{f}"));
+    }
+    println!();
+    let mut holds = 0;
+    for (i, face) in faces.iter().enumerate() {
+        let targets = loss.targets(std::slice::from_ref(face)).expect("targets");
+        let row: Vec<f32> = faces
+            .iter()
+            .map(|f| {
+                loss.loss(&[image_to_tensor(f, device)], &targets, &[0])
+                    .expect("loss")
+                    .into_scalar::<f32>()
+            })
+            .collect();
+        let cube = i / 6;
+        let closest_other = closest(&row, |j| j / 6 != cube);
+        let closest_same = closest(&row, |j| j / 6 == cube && j != i);
+        print!("{:>8}", format!("{}{}", names[i].0, names[i].1));
+        for v in &row {
+            print!(" {v:>9.4}");
+        }
+        let ok = closest_same < closest_other;
+        holds += ok as usize;
+        println!("   closest face is of the same cube: {ok}");
+    }
+    println!("closest other face is of the same cube: {holds}/12 targets");
 }

@@ -64,8 +64,8 @@ pub struct SwdConfig {
     /// Draw new projections on every call (from the seed and the caller's call counter)
     /// instead of keeping one fixed set. Needs the target features kept in memory.
     pub redraw: bool,
-    /// With `redraw`, at most this many target pixels per layer are kept (a seeded random
-    /// subset); their quantiles stand for the whole face.
+    /// With `redraw`, at most this many target pixels per layer are projected and sorted
+    /// per call (a random subset seeded by the call); their quantiles stand for the face.
     pub max_target_pixels: usize,
 }
 

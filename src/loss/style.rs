@@ -4,7 +4,7 @@
 //! ```text
 //! image [3, h, w] ─> pyramid levels l = 0..octaves ─> filter bank (valid conv) ─> nonlinearity
 //!                 ─> layer l: features [F, N_l] ─> Gram / mean / covariance / sorted projections
-//! image [3, h, w] ─> pixels [3, h w] ─> sorted along six colour axes (colour term)
+//! image [3, h, w] ─> pixels and neighbour differences ─> sorted along fixed colour axes
 //! ```
 //!
 //! Every statistic is a per-pixel average or a distribution (quantiles), so a 32 px patch is
@@ -14,16 +14,20 @@
 //! every call; generated images may live on the autodiff device, where the targets, filters
 //! and projections act as constants.
 
+use std::collections::HashMap;
+
 use burn::tensor::{Device, Int, Tensor, TensorData};
 
-use super::colour::{ColourTarget, colour_axes};
+use super::colour::{ColourAxes, ColourTarget};
 use super::config::LossConfig;
 use super::distance::{mean_square, relative_mse};
 use super::features::FeatureExtractor;
 use super::gram::gram;
 use super::image_tensor::image_to_tensor;
 use super::moments::{mean_and_covariance, mean_variance};
-use super::sliced_wasserstein::{SortedTarget, random_projections, sorted_projections};
+use super::sliced_wasserstein::{
+    SortedTarget, random_projections, resample_sorted, sorted_projections,
+};
 use crate::error::{Result, XylemError};
 use crate::image2::Image2;
 use crate::rng::Rng;
@@ -37,7 +41,7 @@ pub struct StyleLoss {
     features: FeatureExtractor,
     /// The fixed projection directions per layer, `[P, F]` (call 0 when redrawing).
     projections: Vec<Tensor<2>>,
-    colour_axes: Tensor<2>,
+    colour_axes: ColourAxes,
 }
 
 /// Precomputed statistics of target images, in the order given to [`StyleLoss::targets`].
@@ -69,7 +73,7 @@ struct LayerTarget {
 enum SwdTarget {
     /// Sorted projections on the fixed directions.
     Fixed(SortedTarget),
-    /// Features `[F, M]` (a seeded subset of pixels), projected anew on every call.
+    /// All features `[F, N]`; every call projects a seeded subset of them anew.
     Redraw(Tensor<2>),
 }
 
@@ -143,7 +147,7 @@ impl StyleLoss {
             .collect();
         Self {
             cfg: cfg.clone(),
-            colour_axes: colour_axes(&device),
+            colour_axes: ColourAxes::new(&device),
             device,
             features,
             projections,
@@ -154,7 +158,8 @@ impl StyleLoss {
         &self.cfg
     }
 
-    /// The smallest side a generated image or target may have (the largest kernel).
+    /// The smallest side a generated image or target may have: the largest kernel plus one
+    /// (the colour term's neighbour differences need two pixels inside the margin).
     pub fn min_side(&self) -> usize {
         self.cfg
             .filters
@@ -163,6 +168,12 @@ impl StyleLoss {
             .copied()
             .max()
             .unwrap_or(1)
+            + 1
+    }
+
+    /// Whether an `h` x `w` image can be used (as target or generated).
+    fn usable(&self, h: usize, w: usize) -> bool {
+        h >= self.min_side() && w >= self.min_side() && self.features.layer_shape(h, w, 0).is_some()
     }
 
     /// Precomputes the statistics of each target image (RGB, any size the loss can use; e.g.
@@ -177,11 +188,7 @@ impl StyleLoss {
     }
 
     fn face_target(&self, index: usize, img: &Image2) -> Result<FaceTarget> {
-        if self
-            .features
-            .layer_shape(img.height, img.width, 0)
-            .is_none()
-        {
+        if !self.usable(img.height, img.width) {
             return Err(XylemError::input(
                 format!("style target {index}"),
                 format!(
@@ -196,7 +203,9 @@ impl StyleLoss {
         }
         let image = image_to_tensor(img, &self.device);
         let w = &self.cfg.weights;
-        let colour = (w.colour > 0.0).then(|| ColourTarget::new(image.clone(), &self.colour_axes));
+        let colour = (w.colour > 0.0).then(|| {
+            ColourTarget::new(image.clone(), &self.colour_axes, (self.min_side() - 1) / 2)
+        });
         let layers = self
             .features
             .layers(image)
@@ -227,7 +236,7 @@ impl StyleLoss {
         });
         let swd = (w.swd > 0.0).then(|| {
             if self.cfg.swd.redraw {
-                SwdTarget::Redraw(self.pixel_subset(layer, features))
+                SwdTarget::Redraw(features)
             } else {
                 SwdTarget::Fixed(SortedTarget::new(sorted_projections(
                     features,
@@ -244,14 +253,16 @@ impl StyleLoss {
         }
     }
 
-    /// At most `swd.max_target_pixels` columns of `[F, N]`, a seeded random subset.
-    fn pixel_subset(&self, layer: usize, features: Tensor<2>) -> Tensor<2> {
+    /// At most `swd.max_target_pixels` columns of `[F, N]`, a random subset seeded by the
+    /// seed, the call and the layer (a new subset every call, so over calls every target
+    /// pixel counts).
+    fn pixel_subset(&self, layer: usize, call: u64, features: Tensor<2>) -> Tensor<2> {
         let n = features.dims()[1];
         let keep = self.cfg.swd.max_target_pixels;
         if n <= keep {
             return features;
         }
-        let mut rng = Rng::substream(self.cfg.seed, 0x5355_4253 + layer as u64);
+        let mut rng = Rng::substream(self.cfg.seed, 0x5355_4253 ^ projection_stream(layer, call));
         let mut index: Vec<i64> = (0..n as i64).collect();
         for i in 0..keep {
             let j = i + rng.below(n - i);
@@ -298,9 +309,10 @@ impl StyleLoss {
     ) -> Result<LossTerms> {
         self.check_inputs(generated, targets, pairs)?;
         let call = if self.cfg.swd.redraw { call } else { 0 };
+        let draw = self.draw(targets, pairs, call);
         let mut per_image = Vec::with_capacity(generated.len());
         for (image, &pair) in generated.iter().zip(pairs) {
-            per_image.push(self.image_terms(image.clone(), &targets.faces[pair], call));
+            per_image.push(self.image_terms(image.clone(), &targets.faces[pair], &draw, pair));
         }
         let take = |f: fn(&ImageTerms) -> Option<Tensor<1>>| {
             let parts: Vec<Tensor<1>> = per_image.iter().filter_map(f).collect();
@@ -360,7 +372,7 @@ impl StyleLoss {
         }
         for (i, (image, &pair)) in generated.iter().zip(pairs).enumerate() {
             let [c, h, w] = image.dims();
-            if c != 3 || self.features.layer_shape(h, w, 0).is_none() {
+            if c != 3 || !self.usable(h, w) {
                 return Err(XylemError::input(
                     format!("generated image {i}"),
                     format!(
@@ -383,7 +395,54 @@ impl StyleLoss {
         Ok(())
     }
 
-    fn image_terms(&self, image: Tensor<3>, target: &FaceTarget, call: u64) -> ImageTerms {
+    /// This call's projections and, when they are redrawn, the targets' sorted projections
+    /// on them: once per target used, however many generated images share it.
+    fn draw(&self, targets: &StyleTargets, pairs: &[usize], call: u64) -> Draw {
+        let projections: Vec<Tensor<2>> = (0..self.features.layer_count())
+            .map(|l| {
+                if call == 0 {
+                    return self.projections[l].clone();
+                }
+                random_projections(
+                    self.cfg.seed,
+                    projection_stream(l, call),
+                    self.cfg.swd.projections,
+                    self.features.channels(),
+                    &self.device,
+                )
+            })
+            .collect();
+        let mut redrawn = HashMap::new();
+        for &pair in pairs {
+            redrawn.entry(pair).or_insert_with(|| {
+                targets.faces[pair]
+                    .layers
+                    .iter()
+                    .zip(&projections)
+                    .enumerate()
+                    .map(|(l, (layer, p))| match layer.as_ref()?.swd.as_ref()? {
+                        SwdTarget::Redraw(features) => Some(SortedTarget::new(sorted_projections(
+                            self.pixel_subset(l, call, features.clone()),
+                            p.clone(),
+                        ))),
+                        SwdTarget::Fixed(_) => None,
+                    })
+                    .collect()
+            });
+        }
+        Draw {
+            projections,
+            redrawn,
+        }
+    }
+
+    fn image_terms(
+        &self,
+        image: Tensor<3>,
+        target: &FaceTarget,
+        draw: &Draw,
+        pair: usize,
+    ) -> ImageTerms {
         let colour = target
             .colour
             .as_ref()
@@ -393,7 +452,11 @@ impl StyleLoss {
             let (Some(f), Some(Some(t))) = (generated, target.layers.get(l)) else {
                 continue;
             };
-            self.layer_terms(l, f, t, call, &mut sums);
+            let redrawn = draw
+                .redrawn
+                .get(&pair)
+                .and_then(|layers| layers[l].as_ref());
+            self.layer_terms(f, t, &draw.projections[l], redrawn, &mut sums);
         }
         ImageTerms {
             gram: average(sums.gram),
@@ -406,10 +469,10 @@ impl StyleLoss {
 
     fn layer_terms(
         &self,
-        layer: usize,
         f: Tensor<2>,
         t: &LayerTarget,
-        call: u64,
+        projections: &Tensor<2>,
+        redrawn: Option<&SortedTarget>,
         sums: &mut TermSums,
     ) {
         if let Some((g, scale)) = &t.gram {
@@ -427,31 +490,31 @@ impl StyleLoss {
         }
         if let Some(swd) = &t.swd {
             let n = f.dims()[1];
-            let (projections, target) = match swd {
-                SwdTarget::Fixed(sorted) => (self.projections[layer].clone(), sorted.at(n)),
-                SwdTarget::Redraw(features) => {
-                    let p = if call == 0 {
-                        self.projections[layer].clone()
-                    } else {
-                        random_projections(
-                            self.cfg.seed,
-                            projection_stream(layer, call),
-                            self.cfg.swd.projections,
-                            self.features.channels(),
-                            &self.device,
-                        )
-                    };
-                    let sorted = sorted_projections(features.clone(), p.clone());
-                    (p, super::sliced_wasserstein::resample_sorted(sorted, n))
+            let target = match (swd, redrawn) {
+                (SwdTarget::Fixed(sorted), _) | (SwdTarget::Redraw(_), Some(sorted)) => {
+                    sorted.at(n)
+                }
+                // not reached: `draw` sorts every redrawing target that is paired
+                (SwdTarget::Redraw(features), None) => {
+                    resample_sorted(sorted_projections(features.clone(), projections.clone()), n)
                 }
             };
             sums.swd.push(relative_mse(
-                sorted_projections(f, projections),
+                sorted_projections(f, projections.clone()),
                 target,
                 t.variance,
             ));
         }
     }
+}
+
+/// The projections of one call (see [`StyleLoss::draw`]).
+struct Draw {
+    /// Per layer, `[P, F]`.
+    projections: Vec<Tensor<2>>,
+    /// Per target index, per layer: the target's sorted projections on this call's
+    /// directions (redrawing losses only).
+    redrawn: HashMap<usize, Vec<Option<SortedTarget>>>,
 }
 
 /// One image's terms, each averaged over its layers.

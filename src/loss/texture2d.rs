@@ -37,6 +37,26 @@ pub struct Texture2dConfig {
 }
 
 impl Texture2dConfig {
+    /// The defaults of `xylem texture2d` around a loss config.
+    pub fn with_loss(loss: LossConfig) -> Self {
+        Self {
+            size: 128,
+            target_size: 128,
+            steps: 600,
+            learning_rate: 0.02,
+            init_noise: 0.1,
+            seed: 1,
+            loss,
+        }
+    }
+
+    /// Loads and validates a config written by `xylem texture2d` (its `config.toml`).
+    pub fn load(path: &std::path::Path) -> Result<Self> {
+        let cfg: Texture2dConfig = crate::config::load_toml(path)?;
+        cfg.validate(&Checker::new(path))?;
+        Ok(cfg)
+    }
+
     pub fn validate(&self, check: &Checker) -> Result<()> {
         check.count("size", self.size, 8, 2048, "an image side in pixels")?;
         check.count(
