@@ -1,4 +1,5 @@
-//! Style-loss cost: forward + backward for six generated faces against the six white-balanced
+//! Style-loss cost: forward + backward for six generated faces (64^2, 128^2) and for 24
+//! patches of 32^2 (the NCA's corner crops) against the six white-balanced
 //! CN03 face photos (targets at 256 px), on flex and ndarray, with fixed and with redrawn
 //! projections; plus the one-off target computation. Also times `Comparer::compare` on two
 //! 256 px photos.
@@ -52,7 +53,15 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
-fn bench(kind: DeviceKind, redraw: bool, size: usize, rounds: usize, faces: &[Image2]) {
+/// `count` generated `size`^2 images, image i paired with target i % 6 (the NCA's corner
+/// crops: 8 corners x 3 faces = 24 patches of six targets).
+fn bench(
+    kind: DeviceKind,
+    redraw: bool,
+    (count, size): (usize, usize),
+    rounds: usize,
+    faces: &[Image2],
+) {
     let mut cfg = LossConfig::default_config();
     cfg.swd.redraw = redraw;
     let device = kind.device();
@@ -61,11 +70,11 @@ fn bench(kind: DeviceKind, redraw: bool, size: usize, rounds: usize, faces: &[Im
     let targets = loss.targets(faces).expect("targets");
     let target_s = t.elapsed().as_secs_f64();
     let ad = device.clone().autodiff();
-    let pairs: Vec<usize> = (0..6).collect();
+    let pairs: Vec<usize> = (0..count).map(|i| i % 6).collect();
     let mut times = Vec::new();
     let cpu0 = cpu_seconds();
     for round in 0..=rounds {
-        let generated: Vec<Tensor<3>> = (0..6)
+        let generated: Vec<Tensor<3>> = (0..count)
             .map(|_| {
                 Tensor::<3>::random([3, size, size], Distribution::Uniform(0.3, 0.7), &ad)
                     .require_grad()
@@ -86,7 +95,7 @@ fn bench(kind: DeviceKind, redraw: bool, size: usize, rounds: usize, faces: &[Im
     }
     let cpu = cpu_seconds() - cpu0;
     println!(
-        "{:>8} redraw={:<5} six {size}^2: forward+backward median {:.3} s, best {:.3} s (CPU {:.3} s/round incl. warm-up share); targets (six 256^2) {:.3} s",
+        "{:>8} redraw={:<5} {count:>2} x {size}^2: forward+backward median {:.3} s, best {:.3} s (CPU {:.3} s/round incl. warm-up share); targets (six 256^2) {:.3} s",
         kind.name(),
         redraw,
         median(times.clone()),
@@ -115,8 +124,8 @@ fn main() {
     };
     for kind in kinds {
         for redraw in [false, true] {
-            for size in [64, 128] {
-                bench(kind, redraw, size, rounds, &faces);
+            for shape in [(6, 64), (6, 128), (24, 32)] {
+                bench(kind, redraw, shape, rounds, &faces);
             }
         }
     }

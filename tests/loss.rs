@@ -117,13 +117,24 @@ fn loss_of(
 #[test]
 fn gradients_match_finite_differences() {
     let (h, w) = (14, 16);
-    let cfg = all_terms();
+    for nonlinearity in [Nonlinearity::None, Nonlinearity::Relu] {
+        let mut cfg = all_terms();
+        cfg.filters.nonlinearity = nonlinearity;
+        check_gradients(&cfg, h, w);
+    }
+}
+
+/// Autodiff against central differences at every 37th input value.
+fn check_gradients(cfg: &LossConfig, h: usize, w: usize) {
     let device = Device::flex().autodiff();
-    let loss = StyleLoss::new(&cfg, &device);
+    let loss = StyleLoss::new(cfg, &device);
     let targets = loss.targets(&[banded(24, 24, 0.0)]).unwrap();
     let generated = banded(w, h, 2.0);
     let x = image_to_tensor(&generated, &device).require_grad();
-    let grads = loss.loss(&[x.clone()], &targets, &[0]).unwrap().backward();
+    let grads = loss
+        .loss(std::slice::from_ref(&x), &targets, &[0])
+        .unwrap()
+        .backward();
     let analytic: Vec<f32> = x
         .grad(&grads)
         .unwrap()
@@ -193,8 +204,12 @@ fn projections_are_fixed_or_redrawn_per_call_deterministically() {
         let b = StyleLoss::new(&cfg, &device);
         let ta = a.targets(std::slice::from_ref(&target)).unwrap();
         let tb = b.targets(std::slice::from_ref(&target)).unwrap();
-        let at =
-            |l: &StyleLoss, t, call| value(l.loss_at(&[generated.clone()], t, &[0], call).unwrap());
+        let at = |l: &StyleLoss, t, call| {
+            value(
+                l.loss_at(std::slice::from_ref(&generated), t, &[0], call)
+                    .unwrap(),
+            )
+        };
         assert_eq!(
             at(&a, &ta, 3),
             at(&b, &tb, 3),
@@ -209,7 +224,10 @@ fn projections_are_fixed_or_redrawn_per_call_deterministically() {
     cfg.seed += 1;
     let c = StyleLoss::new(&cfg, &device);
     let tc = c.targets(std::slice::from_ref(&target)).unwrap();
-    let other_seed = value(c.loss_at(&[generated.clone()], &tc, &[0], 3).unwrap());
+    let other_seed = value(
+        c.loss_at(std::slice::from_ref(&generated), &tc, &[0], 3)
+            .unwrap(),
+    );
     cfg.seed -= 1;
     let d = StyleLoss::new(&cfg, &device);
     let td = d.targets(std::slice::from_ref(&target)).unwrap();
@@ -227,9 +245,13 @@ fn bad_inputs_are_errors_not_panics() {
     assert!(err.to_string().contains("style target 0"), "{err}");
     let targets = loss.targets(&[banded(64, 64, 0.0)]).unwrap();
     let x = image_to_tensor(&banded(32, 32, 0.0), &device);
-    let err = loss.loss(&[x.clone()], &targets, &[1]).unwrap_err();
+    let err = loss
+        .loss(std::slice::from_ref(&x), &targets, &[1])
+        .unwrap_err();
     assert!(err.to_string().contains("target index below 1"), "{err}");
-    let err = loss.loss(&[x.clone()], &targets, &[]).unwrap_err();
+    let err = loss
+        .loss(std::slice::from_ref(&x), &targets, &[])
+        .unwrap_err();
     assert!(err.to_string().contains("pairs"), "{err}");
     let tiny = image_to_tensor(&Image2::filled(3, 3, 3, 0.5), &device);
     let err = loss.loss(&[tiny], &targets, &[0]).unwrap_err();
@@ -260,7 +282,7 @@ fn flex_and_ndarray_agree() {
         let loss = StyleLoss::new(&cfg, &ad);
         let targets = loss.targets(std::slice::from_ref(&target)).unwrap();
         let x = image_to_tensor(&generated, &ad).require_grad();
-        let l = loss.loss(&[x.clone()], &targets, &[0]).unwrap();
+        let l = loss.loss(std::slice::from_ref(&x), &targets, &[0]).unwrap();
         let grads = l.backward();
         assert!(x.grad(&grads).is_some(), "gradient on {device:?}");
         value(l)

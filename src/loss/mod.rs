@@ -2,7 +2,7 @@
 //!
 //! Pretrained VGG weights are not available here, so the features come from fixed filters
 //! that need no training: a pyramid of each image ([`pyramid`]), a bank of random and
-//! oriented filters with a nonlinearity at every level ([`filters`], [`features`]). On those
+//! oriented filters at every level, optionally rectified ([`filters`], [`features`]). On those
 //! features the loss compares Gram matrices ([`gram`]), means and covariances ([`moments`])
 //! and, the term that carries the texture, sliced Wasserstein distances ([`sliced_wasserstein`])
 //! with the target's; a colour term ([`colour`]) matches the pixel colour distribution. Every

@@ -4,7 +4,7 @@
 //! ```text
 //! image [3, h, w] ─> pyramid levels l = 0..octaves ─> filter bank (valid conv) ─> nonlinearity
 //!                 ─> layer l: features [F, N_l] ─> Gram / mean / covariance / sorted projections
-//! image [3, h, w] ─> pixels and neighbour differences ─> sorted along fixed colour axes
+//! image [3, h, w] ─> pixels [3, h w] ─> sorted along six colour axes (colour term)
 //! ```
 //!
 //! Every statistic is a per-pixel average or a distribution (quantiles), so a 32 px patch is
@@ -18,7 +18,7 @@ use std::collections::HashMap;
 
 use burn::tensor::{Device, Int, Tensor, TensorData};
 
-use super::colour::{ColourAxes, ColourTarget};
+use super::colour::{ColourTarget, colour_axes};
 use super::config::LossConfig;
 use super::distance::{mean_square, relative_mse};
 use super::features::FeatureExtractor;
@@ -41,7 +41,7 @@ pub struct StyleLoss {
     features: FeatureExtractor,
     /// The fixed projection directions per layer, `[P, F]` (call 0 when redrawing).
     projections: Vec<Tensor<2>>,
-    colour_axes: ColourAxes,
+    colour_axes: Tensor<2>,
 }
 
 /// Precomputed statistics of target images, in the order given to [`StyleLoss::targets`].
@@ -147,7 +147,7 @@ impl StyleLoss {
             .collect();
         Self {
             cfg: cfg.clone(),
-            colour_axes: ColourAxes::new(&device),
+            colour_axes: colour_axes(&device),
             device,
             features,
             projections,
@@ -158,8 +158,7 @@ impl StyleLoss {
         &self.cfg
     }
 
-    /// The smallest side a generated image or target may have: the largest kernel plus one
-    /// (the colour term's neighbour differences need two pixels inside the margin).
+    /// The smallest side a generated image or target may have (the largest kernel).
     pub fn min_side(&self) -> usize {
         self.cfg
             .filters
@@ -168,7 +167,6 @@ impl StyleLoss {
             .copied()
             .max()
             .unwrap_or(1)
-            + 1
     }
 
     /// Whether an `h` x `w` image can be used (as target or generated).
@@ -203,9 +201,7 @@ impl StyleLoss {
         }
         let image = image_to_tensor(img, &self.device);
         let w = &self.cfg.weights;
-        let colour = (w.colour > 0.0).then(|| {
-            ColourTarget::new(image.clone(), &self.colour_axes, (self.min_side() - 1) / 2)
-        });
+        let colour = (w.colour > 0.0).then(|| ColourTarget::new(image.clone(), &self.colour_axes));
         let layers = self
             .features
             .layers(image)

@@ -125,7 +125,7 @@ pub fn synthesize(
     let mut losses = Vec::with_capacity(cfg.steps);
     for step in 0..cfg.steps {
         let x = image.clone().autodiff().require_grad();
-        let value = loss.loss_at(&[x.clone()], &targets, &[0], step as u64 + 1)?;
+        let value = loss.loss_at(std::slice::from_ref(&x), &targets, &[0], step as u64 + 1)?;
         let grads = value.backward();
         let scalar = value.into_scalar::<f32>();
         if !scalar.is_finite() {

@@ -94,10 +94,14 @@ pub struct Comparer {
 }
 
 impl Comparer {
-    /// Default settings, the style loss of `loss` on `device` (no autodiff needed).
+    /// Default settings, the style loss of `loss` on `device` (no autodiff needed). The
+    /// metric uses the fixed projections and every target pixel (`swd.redraw` off), so it is
+    /// exact and the same on every call: an image against itself scores 0.
     pub fn new(loss: &LossConfig, device: &Device) -> Self {
+        let mut loss = loss.clone();
+        loss.swd.redraw = false;
         Self {
-            style: StyleLoss::new(loss, device),
+            style: StyleLoss::new(&loss, device),
             device: device.clone().without_autodiff(),
             ring: RingSettings::default(),
             patches: PatchSwdSettings::default(),
