@@ -27,6 +27,6 @@ pub fn difference_sheet(reference: &Image2, candidate: &Image2) -> Image2 {
     captioned_row(&[
         ("reference".to_string(), &reference),
         ("candidate".to_string(), &candidate),
-        (format!("|difference| x{GAIN}"), &diff),
+        (format!("diff x{GAIN}"), &diff),
     ])
 }
