@@ -20,6 +20,10 @@
 //! - [`sample`]: sample folders in the Mokume layout (photos, ring images, knot markers).
 //! - [`rng`]: seeded, hash-based randomness (same seed, same output).
 //! - [`device`]: choosing burn's CPU device (flex or ndarray) at run time.
+//! - [`loss`]: the VGG-free style loss (fixed-filter features, sliced Wasserstein, Gram,
+//!   moments, colour) that the NCA trains with.
+//! - [`metrics`]: comparison metrics (ring alignment, grain direction, patch texture distance
+//!   on Lab, lightness and chroma, colour differences) and `xylem compare`'s JSON.
 //! - [`procedural`]: the procedural wood model (rings, pores, rays, fibres, knots, figure,
 //!   burl) and synthetic sample cubes made from species presets.
 //! - [`nca`]: the 3D neural cellular automaton: model, training on the faces, synthesis.
@@ -33,6 +37,8 @@ pub mod fit;
 pub mod frame;
 pub mod image2;
 pub mod io;
+pub mod loss;
+pub mod metrics;
 pub mod nca;
 pub mod outputs;
 pub mod presets;

@@ -1,5 +1,6 @@
 //! Sub-commands of `xylem`, one file each.
 
+mod compare_cmd;
 mod demo_cmd;
 mod export_cmd;
 mod field_cmd;
@@ -13,6 +14,7 @@ mod report_cmd;
 mod sample_cmd;
 mod slice_cmd;
 mod synth_cmd;
+mod texture2d_cmd;
 mod texture_source;
 mod train_cmd;
 
@@ -31,6 +33,7 @@ pub struct Cli {
 
 #[derive(Subcommand, Debug)]
 pub enum Command {
+    Compare(compare_cmd::CompareArgs),
     Demo(demo_cmd::DemoArgs),
     Export(export_cmd::ExportArgs),
     Field(field_cmd::FieldArgs),
@@ -42,11 +45,13 @@ pub enum Command {
     Sample(sample_cmd::SampleArgs),
     Slice(slice_cmd::SliceArgs),
     Synth(synth_cmd::SynthArgs),
+    Texture2d(texture2d_cmd::Texture2dArgs),
     Train(train_cmd::TrainArgs),
 }
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
+        Command::Compare(a) => compare_cmd::run(a),
         Command::Demo(a) => demo_cmd::run(a),
         Command::Export(a) => export_cmd::run(a),
         Command::Field(a) => field_cmd::run(a),
@@ -58,6 +63,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Sample(a) => sample_cmd::run(a),
         Command::Slice(a) => slice_cmd::run(a),
         Command::Synth(a) => synth_cmd::run(a),
+        Command::Texture2d(a) => texture2d_cmd::run(a),
         Command::Train(a) => train_cmd::run(a),
     }
 }
