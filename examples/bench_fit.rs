@@ -127,7 +127,12 @@ fn samples(cfg: &FitConfig) {
         let out = xylem::io::OutputDir::prepare(&dir).expect("sample folder");
         xylem::procedural::write_sample(&wood, species, SIZE, &out).expect("xylem sample");
         let truth_cfg = FieldConfig::load(&dir.join("truth/field.toml")).expect("truth field");
-        report_case(&format!("xylem sample --preset {species}"), &truth_cfg, &dir, cfg);
+        report_case(
+            &format!("xylem sample --preset {species}"),
+            &truth_cfg,
+            &dir,
+            cfg,
+        );
     }
     let _ = std::fs::remove_dir_all(&root);
 }

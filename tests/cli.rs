@@ -139,7 +139,15 @@ fn bad_inputs_give_clear_errors() {
 
 #[test]
 fn help_shows_examples() {
-    for cmd in ["field", "slice", "demo", "procedural", "sample"] {
+    for cmd in [
+        "field",
+        "slice",
+        "demo",
+        "gallery",
+        "run",
+        "procedural",
+        "sample",
+    ] {
         let help = run_ok(xylem().args([cmd, "--help"]));
         assert!(
             help.contains("Example"),
@@ -241,12 +249,12 @@ fn sample_writes_the_mokume_layout_and_slice_takes_a_species() {
 }
 
 #[test]
-fn demo_builds_samples_from_species_presets() {
-    let out = scratch("demo");
+fn gallery_builds_samples_from_species_presets() {
+    let out = scratch("gallery");
     run_ok(
         xylem()
             .args([
-                "demo",
+                "gallery",
                 "--size",
                 "8",
                 "--species",
@@ -270,7 +278,7 @@ fn demo_builds_samples_from_species_presets() {
     }
     let err = run_err(
         xylem()
-            .args(["demo", "--size", "8", "--species", "teak", "--out"])
+            .args(["gallery", "--size", "8", "--species", "teak", "--out"])
             .arg(out.join("x")),
     );
     assert!(err.contains("teak") && err.contains("chestnut"), "{err}");

@@ -12,14 +12,14 @@ use xylem::device::DeviceKind;
 use xylem::field::{GrowthField, ring_intensity};
 use xylem::frame::Face;
 use xylem::io::{OutputDir, save_png};
-use xylem::nca::TrainConfig;
 use xylem::nca::fit_source::load_fit;
 use xylem::nca::loss::MomentLoss;
 use xylem::nca::model_dir::load_weights;
 use xylem::nca::session::{TrainOptions, run_training};
 use xylem::nca::targets::photo_mean;
 use xylem::nca::tensors::to_vec;
-use xylem::nca::train::TrainData;
+use xylem::nca::train::{TrainData, Trainer};
+use xylem::nca::{FaceLossKind, TrainConfig, face_loss};
 use xylem::presets::load_field_preset;
 use xylem::rng::hash3;
 use xylem::sample::{Needs, Sample};
@@ -228,7 +228,8 @@ fn cli_trains_resumes_and_synthesises_on_ndarray_and_flex() {
     let config = dir.join("tiny.toml");
     std::fs::write(
         &config,
-        "seed = 2\n[model]\nhidden = 8\n[volume]\nsize = 8\ncrop = 4\n[schedule]\n\
+        // Whole 16^3 faces: the smallest patches the default style loss accepts.
+        "seed = 2\n[model]\nhidden = 8\n[volume]\nsize = 16\ncrop = 16\n[schedule]\n\
          iterations = 4\nsteps = [2, 3]\n[pool]\nsize = 2\n[checkpoint]\nevery = 2\n",
     )
     .unwrap();
@@ -272,7 +273,7 @@ fn cli_trains_resumes_and_synthesises_on_ndarray_and_flex() {
                 .arg(&synth),
         );
         let (shape, values) = xylem::io::npy::read_npy(&synth.join("volume.npy")).unwrap();
-        assert_eq!(shape, vec![8, 8, 8, 3]);
+        assert_eq!(shape, vec![16, 16, 16, 3]);
         assert!(values.iter().all(|v| v.is_finite()));
         for f in [
             "faces/A.png",
@@ -284,5 +285,53 @@ fn cli_trains_resumes_and_synthesises_on_ndarray_and_flex() {
             assert!(synth.join(f).is_file(), "{device}: {f}");
         }
     }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn style_loss_rejects_crops_smaller_than_its_filters() {
+    let dir = scratch("small-crop");
+    std::fs::create_dir_all(dir.join("sample")).unwrap();
+    write_sample(&dir.join("sample"));
+    let cfg = tiny_config(2, 4, 0);
+    let data = data(&dir.join("sample"), 12);
+    let err = face_loss(&cfg, &data.targets, &DeviceKind::Flex.device())
+        .err()
+        .expect("a 4 px crop is too small for 5 px filters")
+        .to_string();
+    assert!(
+        err.contains("crop") && err.contains("4x4") && err.contains("[loss.style]"),
+        "{err}"
+    );
+    let mut moments = cfg.clone();
+    moments.loss.face = FaceLossKind::Moments;
+    assert!(face_loss(&moments, &data.targets, &DeviceKind::Flex.device()).is_ok());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn style_loss_trains_whole_faces_and_lowers_the_loss() {
+    let dir = scratch("style");
+    std::fs::create_dir_all(dir.join("sample")).unwrap();
+    write_sample(&dir.join("sample"));
+    let text = "seed = 3\n[model]\nhidden = 16\n[volume]\nsize = 16\ncrop = 16\n\
+                [schedule]\niterations = 12\nsteps = [3, 4]\nlearning_rate = 1e-2\n\
+                [pool]\nsize = 0\n[loss.style]\nseed = 1\noctaves = 2\nmin_layer_pixels = 16\n\
+                [loss.style.filters]\nkernel_sizes = [5]\nrandom = 8\norientations = 2\n\
+                nonlinearity = \"none\"\n[loss.style.swd]\nprojections = 16\nredraw = false\n\
+                max_target_pixels = 4096\n[loss.style.weights]\ngram = 0.0\nmean = 0.0\n\
+                covariance = 0.0\nswd = 1.0\ncolour = 1.0\n";
+    let cfg = TrainConfig::parse(text, Path::new("<test>")).unwrap();
+    let data = data(&dir.join("sample"), 16);
+    let kind = DeviceKind::Flex;
+    let loss = face_loss(&cfg, &data.targets, &kind.device()).unwrap();
+    let mut trainer = Trainer::new(&cfg, &data, kind);
+    let rows: Vec<f32> = (0..12)
+        .map(|_| trainer.iterate(loss.as_ref()).style)
+        .collect();
+    let first = rows[..3].iter().sum::<f32>() / 3.0;
+    let last = rows[9..].iter().sum::<f32>() / 3.0;
+    assert!(rows.iter().all(|v| v.is_finite() && *v > 0.0), "{rows:?}");
+    assert!(last < 0.8 * first, "style loss {first} -> {last}: {rows:?}");
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -71,7 +71,7 @@ fn targets(device: &Device) -> MomentLoss {
 fn objective(state: Tensor<4>, region: &Region, loss: &MomentLoss) -> Tensor<1> {
     let rgb = state.clone().narrow(0, 0, 3).add_scalar(0.5);
     let patches = face_patches(&rgb, region, &Face::ALL);
-    loss.loss(&patches) + state.square().mean().mul_scalar(0.5)
+    loss.loss(&patches, 0) + state.square().mean().mul_scalar(0.5)
 }
 
 fn plain_objective(w: &[Vec<f32>; 3], steps: usize) -> f32 {

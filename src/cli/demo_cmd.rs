@@ -1,119 +1,74 @@
-//! `xylem demo`: the built-in default job, needing no external data: synthetic sample cubes
-//! from the species presets, loaded back like real samples and rendered.
+//! `xylem demo`: the built-in default job, needing no external data: a synthetic sample cube
+//! from a species preset (with its hidden truth), then the whole pipeline on it (`xylem run`):
+//! fit, NCA training with the quick config, synthesis, the sheet of faces and cuts beside
+//! the truth, renders, metrics and the HTML report.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
-use xylem::config::write_config_copy;
-use xylem::frame::Face;
-use xylem::image2::Image2;
-use xylem::io::{OutputDir, load_rgb, save_png};
-use xylem::outputs::CROSS_BACKGROUND;
-use xylem::presets::{SPECIES_PRESETS, load_species_preset, species_preset_names};
-use xylem::procedural::{SpeciesConfig, write_sample};
-use xylem::sample::{Needs, Sample};
-use xylem::slice::unfold_cross;
+use xylem::device::DeviceKind;
+use xylem::io::OutputDir;
+use xylem::presets::load_species_preset;
+use xylem::procedural::write_sample;
 
-/// Run the built-in demo: for each species preset, write a synthetic sample cube (Mokume
-/// layout, with its hidden truth), load it back like a real sample and render its unfolded
-/// faces, ring images and validation cuts.
+use super::run_cmd::{self, RunArgs};
+
+/// Run the built-in demo: synthetic sample -> fit -> NCA (quick) -> synthesis -> sheet,
+/// renders, metrics and report, with no external data.
 #[derive(Args, Debug)]
 #[command(after_help = "Example:
-  xylem demo --out out/demo      # then look at out/demo/<species>/unfolded.png
+  xylem demo --out out/demo      # then open out/demo/report/index.html
 
-For each species writes DIR/<species>/sample/ (A_col.png.., A_arl.png.., knot markers,
-truth/), DIR/<species>/unfolded.png (the sample's photos as a cross: B above A, row C A E F,
-D below A), unfolded_arl.png (its ring images), cuts.png (cut1 | cut2) and config.toml.")]
+Writes DIR/sample/ (the synthetic photographed cube, Mokume layout, truth in truth/), and
+everything `xylem run` writes: fit/, train/, synth/, unfolded.png (truth | NCA), sheet.png
+(faces and cuts: truth, fitted rings, base colour, procedural truth, NCA), renders/,
+metrics.csv and report/index.html. Re-running continues where an interrupted demo stopped.")]
 pub struct DemoArgs {
     /// Output folder.
     #[arg(long, default_value = "out/demo")]
     pub out: PathBuf,
-    /// Image side in pixels.
-    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(2..=4096))]
+    /// Species preset of the synthetic sample (oak, chestnut, maple, walnut, softwood, burl).
+    #[arg(long, default_value = "chestnut")]
+    pub species: String,
+    /// Face image side of the synthetic sample, in pixels.
+    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(16..=2048))]
     pub size: u32,
-    /// Species presets to render, comma-separated (default: all).
-    #[arg(long, value_delimiter = ',')]
-    pub species: Vec<String>,
+    /// NCA training config (default: the built-in configs/nca/quick.toml).
+    #[arg(long)]
+    pub nca_config: Option<PathBuf>,
+    /// NCA unroll steps of the synthesis.
+    #[arg(long, default_value_t = 24)]
+    pub synth_steps: usize,
+    /// CPU backend of the NCA.
+    #[arg(long, default_value = "flex")]
+    pub device: DeviceKind,
 }
 
 pub fn run(args: DemoArgs) -> Result<()> {
-    let names: Vec<String> = if args.species.is_empty() {
-        SPECIES_PRESETS.iter().map(|(n, _)| n.to_string()).collect()
-    } else {
-        args.species.clone()
-    };
-    for name in &names {
-        if !species_preset_names().contains(&name.as_str()) {
-            bail!(
-                "--species {name:?}: unknown species preset; built-in presets: {}",
-                species_preset_names().join(", ")
-            );
-        }
+    let out = OutputDir::prepare(&args.out)?;
+    let sample = out.path("sample");
+    if !sample.join("truth/species.toml").is_file() {
+        eprintln!("== sample ({})", args.species);
+        let cfg = load_species_preset(&args.species)?;
+        let origin = format!("built-in species preset {}", args.species);
+        write_sample(
+            &cfg,
+            &origin,
+            args.size as usize,
+            &OutputDir::prepare(&sample)?,
+        )
+        .with_context(|| format!("writing the synthetic sample of {origin}"))?;
     }
-    let bar = ProgressBar::new(names.len() as u64).with_style(
-        ProgressStyle::with_template("{msg:>10} [{bar:30}] {pos}/{len} {elapsed}")?
-            .progress_chars("=> "),
-    );
-    for name in &names {
-        bar.set_message(name.clone());
-        let cfg = load_species_preset(name)?;
-        demo_species(&cfg, name, args.size as usize, &args.out.join(name))
-            .with_context(|| format!("demo of species preset {name}"))?;
-        bar.inc(1);
-    }
-    bar.finish_with_message("done");
-    println!(
-        "wrote {}/<species>/unfolded.png for {}",
-        args.out.display(),
-        names.join(", ")
-    );
-    Ok(())
-}
-
-/// One species: the sample folder, then the renders made from it.
-fn demo_species(cfg: &SpeciesConfig, name: &str, n: usize, dir: &Path) -> Result<()> {
-    let out = OutputDir::prepare(dir)?;
-    let origin = format!("built-in species preset {name}");
-    let sample_dir = out.path("sample");
-    write_sample(cfg, &origin, n, &OutputDir::prepare(&sample_dir)?)?;
-    let sample = Sample::load(
-        &sample_dir,
-        &Face::ALL,
-        Needs {
-            photos: true,
-            arl: true,
-        },
-    )?;
-    let photos = faces_of(&sample.photos, &sample_dir)?;
-    let rings = faces_of(&sample.arl, &sample_dir)?;
-    save_png(
-        &unfold_cross(&photos, CROSS_BACKGROUND),
-        &out.path("unfolded.png"),
-    )?;
-    save_png(
-        &unfold_cross(&rings, CROSS_BACKGROUND),
-        &out.path("unfolded_arl.png"),
-    )?;
-    let cut1 = load_rgb(&sample_dir.join("truth/cut1.png"))?;
-    let cut2 = load_rgb(&sample_dir.join("truth/cut2.png"))?;
-    save_png(
-        &Image2::hstack(&[&cut1, &cut2], n / 32, CROSS_BACKGROUND),
-        &out.path("cuts.png"),
-    )?;
-    write_config_copy(&out.path("config.toml"), cfg, &origin)?;
-    Ok(())
-}
-
-/// The six loaded images of a sample in file order.
-fn faces_of(images: &[Option<Image2>; 6], dir: &Path) -> Result<[Image2; 6]> {
-    let mut out = Vec::with_capacity(6);
-    for face in Face::ALL {
-        let image = images[face.index()]
-            .clone()
-            .with_context(|| format!("{}: face {face} was not loaded", dir.display()))?;
-        out.push(image);
-    }
-    Ok(out.try_into().expect("six faces"))
+    run_cmd::run(RunArgs {
+        sample,
+        out: args.out,
+        faces: None,
+        nca_config: args.nca_config,
+        fit_config: None,
+        species: args.species,
+        synth_steps: args.synth_steps,
+        image_size: 160,
+        device: args.device,
+    })
 }

@@ -5,12 +5,15 @@ mod demo_cmd;
 mod export_cmd;
 mod field_cmd;
 mod fit_cmd;
+mod gallery_cmd;
 mod mesh_cmd;
 mod output_args;
 mod presets;
 mod procedural_cmd;
 mod render_cmd;
 mod report_cmd;
+mod run_cmd;
+mod run_metrics;
 mod sample_cmd;
 mod slice_cmd;
 mod synth_cmd;
@@ -38,10 +41,12 @@ pub enum Command {
     Export(export_cmd::ExportArgs),
     Field(field_cmd::FieldArgs),
     Fit(fit_cmd::FitArgs),
+    Gallery(gallery_cmd::GalleryArgs),
     MeshBowl(mesh_cmd::MeshBowlArgs),
     Procedural(procedural_cmd::ProceduralArgs),
     Render(render_cmd::RenderArgs),
     Report(report_cmd::ReportArgs),
+    Run(run_cmd::RunArgs),
     Sample(sample_cmd::SampleArgs),
     Slice(slice_cmd::SliceArgs),
     Synth(synth_cmd::SynthArgs),
@@ -56,10 +61,12 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Export(a) => export_cmd::run(a),
         Command::Field(a) => field_cmd::run(a),
         Command::Fit(a) => fit_cmd::run(a),
+        Command::Gallery(a) => gallery_cmd::run(a),
         Command::MeshBowl(a) => mesh_cmd::run(a),
         Command::Procedural(a) => procedural_cmd::run(a),
         Command::Render(a) => render_cmd::run(a),
         Command::Report(a) => report_cmd::run(a),
+        Command::Run(a) => run_cmd::run(a),
         Command::Sample(a) => sample_cmd::run(a),
         Command::Slice(a) => slice_cmd::run(a),
         Command::Synth(a) => synth_cmd::run(a),

@@ -9,8 +9,8 @@ use xylem::device::DeviceKind;
 use xylem::frame::Face;
 use xylem::io::OutputDir;
 use xylem::nca::TrainConfig;
+use xylem::nca::face_loss;
 use xylem::nca::fit_source::{FIT_FILE, FitRecord, load_fit};
-use xylem::nca::loss::MomentLoss;
 use xylem::nca::model_dir::ModelMeta;
 use xylem::nca::session::{TrainOptions, run_training, saved_config};
 use xylem::nca::targets::photo_mean;
@@ -25,9 +25,12 @@ use xylem::sample::{Needs, Sample, parse_faces};
   xylem train --sample S --fit fit.toml --config configs/nca/default.toml --out OUT --faces A,B,C,D,E
   xylem train --sample S --out OUT --resume        # continue a killed run
 
---fit: the growth field and base colour. Until the fit stage is merged this is a stand-in:
-a field config (configs/fields/*.toml; base colour = a ring ramp in the photos' colours),
-a stand-in fit file ([field] + [base_colour] light/dark), or a folder holding fit.toml.
+--fit: the growth field and base colour: the fit.toml written by `xylem fit` (or the folder
+holding it); also accepted, for tests and ablations, a field config (configs/fields/*.toml;
+base colour = a ring ramp in the photos' colours).
+
+The face loss is the VGG-free style loss ([loss] face = \"style\", its settings in [loss.style],
+default configs/loss/default.toml); face = \"moments\" selects the cheap moment baseline.
 
 Writes OUT/model.bpk, OUT/model.toml, OUT/fit.toml, OUT/train.toml (the config used),
 OUT/loss.csv, OUT/loss.png, and OUT/checkpoint/ every few minutes (checkpoint.minutes).")]
@@ -114,7 +117,7 @@ pub fn run(args: TrainArgs) -> Result<()> {
         }
     };
     let data = TrainData::prepare(&sample, fit, config.volume.size);
-    let loss = MomentLoss::new(&data.targets, &args.device.device());
+    let loss = face_loss(&config, &data.targets, &args.device.device())?;
     let total = config.schedule.iterations as u64;
     let bar = ProgressBar::new(total).with_style(
         ProgressStyle::with_template(
@@ -133,7 +136,7 @@ pub fn run(args: TrainArgs) -> Result<()> {
         &source,
         &data,
         args.device,
-        &loss,
+        loss.as_ref(),
         &options,
         &mut |row| {
             if first {

@@ -170,7 +170,7 @@ impl StyleLoss {
     }
 
     /// Whether an `h` x `w` image can be used (as target or generated).
-    fn usable(&self, h: usize, w: usize) -> bool {
+    pub fn usable(&self, h: usize, w: usize) -> bool {
         h >= self.min_side() && w >= self.min_side() && self.features.layer_shape(h, w, 0).is_some()
     }
 

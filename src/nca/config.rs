@@ -11,8 +11,10 @@ use serde::{Deserialize, Serialize};
 
 use super::conditioning::CondChannel;
 use super::perception::PerceptionImpl;
+use super::style_face_loss::FaceLossKind;
 use crate::config::{Checker, load_toml, parse_toml};
 use crate::error::Result;
+use crate::loss::LossConfig;
 
 /// Everything `xylem train` needs besides the sample and the fit.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -95,13 +97,20 @@ pub struct PoolConfig {
     pub fresh_every: usize,
 }
 
-/// Weights of the loss terms (the style term has weight 1).
+/// The face loss and the weights of the loss terms (the face term has weight 1).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LossWeights {
     /// Weight of mean |S - clamp(S, -1, 1)|, which keeps the state bounded.
     #[serde(default = "default_overflow")]
     pub overflow: f32,
+    /// Which loss compares the generated faces with the photos.
+    #[serde(default)]
+    pub face: FaceLossKind,
+    /// The style loss's config (`[loss.style]`, same keys as `configs/loss/default.toml`,
+    /// which is the default).
+    #[serde(default = "LossConfig::default_config")]
+    pub style: LossConfig,
 }
 
 /// Memory controls of the unroll.
@@ -168,6 +177,8 @@ impl Default for LossWeights {
     fn default() -> Self {
         Self {
             overflow: default_overflow(),
+            face: FaceLossKind::default(),
+            style: LossConfig::default_config(),
         }
     }
 }
@@ -313,13 +324,15 @@ impl TrainConfig {
             1_000_000,
             "iterations between fresh seeds",
         )?;
-        check.nested("loss").range(
+        let l = check.nested("loss");
+        l.range(
             "overflow",
             self.loss.overflow,
             0.0,
             1000.0,
             "overflow-loss weight",
         )?;
+        self.loss.style.validate(&l.nested("style"))?;
         let m = check.nested("memory");
         m.count(
             "segment_steps",

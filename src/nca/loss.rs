@@ -1,30 +1,32 @@
-//! The seam between the NCA and the style loss, and a simple stand-in loss.
+//! The seam between the NCA and the face losses.
 //!
 //! [`FaceLoss`] is what training calls: generated face patches (white-balanced RGB
 //! `[3, h, w]`, each knowing its face and where it sits in that face) in, a scalar tensor out.
-//! The VGG-free style loss of issue 5 implements it with target statistics precomputed from
-//! the face photos (a crop is compared with the whole face's statistics).
+//! [`super::style_face_loss::StyleFaceLoss`] (the default, `loss.face = "style"`) is the
+//! VGG-free style loss of `crate::loss` with target statistics precomputed from the whole
+//! face photos (a crop is compared with the whole face's statistics).
 //!
-//! [`MomentLoss`] is a **stand-in** for tests and development until that loss is merged: per
-//! face, the mean and covariance of five cheap features (R, G, B and the horizontal and
-//! vertical differences of lightness) at two scales (full and 2x2-averaged), compared by mean
-//! squared difference with the same statistics of the whole target face. It matches colour,
-//! contrast and gradient orientation statistics; it cannot describe pores or ring structure
-//! and is not meant to.
+//! [`MomentLoss`] (`loss.face = "moments"`) is a cheap baseline kept for fast tests and as an
+//! ablation: per face, the mean and covariance of five features (R, G, B and the horizontal
+//! and vertical differences of lightness) at two scales (full and 2x2-averaged), compared by
+//! mean squared difference with the same statistics of the whole target face. It matches
+//! colour, contrast and gradient orientation statistics; it cannot describe pores or ring
+//! structure.
 
 use burn::tensor::{Device, Tensor};
 
 use super::faces::FacePatch;
-use super::tensors::tensor_from;
 use crate::frame::Face;
 use crate::image2::Image2;
+use crate::loss::image_to_tensor;
 
 /// A loss on generated face patches.
 pub trait FaceLoss {
     /// The loss of `patches` (each `[3, h, w]`, white-balanced RGB) against the targets of
     /// their faces, as a `[1]` tensor on the patches' device. Patches of faces without a
-    /// target contribute nothing.
-    fn loss(&self, patches: &[FacePatch]) -> Tensor<1>;
+    /// target contribute nothing. `iteration` seeds losses that draw random projections
+    /// per call, so a resumed run draws what the uninterrupted one would have.
+    fn loss(&self, patches: &[FacePatch], iteration: usize) -> Tensor<1>;
 }
 
 /// Features per pixel of [`MomentLoss`].
@@ -49,7 +51,7 @@ impl MomentLoss {
     /// not used in training).
     pub fn new(targets: &[Option<Image2>; 6], device: &Device) -> Self {
         let stats = |img: &Image2| {
-            let t = image_tensor(img, device);
+            let t = image_to_tensor(img, device);
             SCALES
                 .iter()
                 .map(|&s| moments(pool(t.clone(), s)))
@@ -66,7 +68,7 @@ impl MomentLoss {
 }
 
 impl FaceLoss for MomentLoss {
-    fn loss(&self, patches: &[FacePatch]) -> Tensor<1> {
+    fn loss(&self, patches: &[FacePatch], _iteration: usize) -> Tensor<1> {
         let mut terms = Vec::new();
         for patch in patches {
             let Some(target) = self.target(patch.face) else {
@@ -91,18 +93,6 @@ impl FaceLoss for MomentLoss {
             }
         }
     }
-}
-
-/// An `[H, W, 3]` image as a `[3, H, W]` tensor.
-pub fn image_tensor(img: &Image2, device: &Device) -> Tensor<3> {
-    let (h, w) = (img.height, img.width);
-    let mut data = vec![0.0f32; 3 * h * w];
-    for (p, px) in img.data.chunks_exact(img.channels).enumerate() {
-        for c in 0..3 {
-            data[c * h * w + p] = px[c.min(img.channels - 1)];
-        }
-    }
-    tensor_from(data, [3, h, w], device)
 }
 
 /// Average pooling by `s` x `s` (odd remainders are dropped): `[3, H, W]` -> `[3, H/s, W/s]`.

@@ -25,7 +25,8 @@
 //! - [`unroll`]: many steps, slab by slab for large volumes, seeds.
 //! - [`checkpoint`]: gradients through long unrolls by segment recomputation.
 //! - [`faces`]: the six cube faces (or the face patches of a crop) of a state tensor.
-//! - [`loss`]: the seam to the style loss (`FaceLoss`) and a simple stand-in.
+//! - [`loss`]: the seam to the face losses (`FaceLoss`) and the moment baseline.
+//! - [`style_face_loss`]: the style loss of `crate::loss` as a `FaceLoss` (the default).
 //! - [`targets`]: white-balanced face photos at the training resolution.
 //! - [`pool`]: the pool of states training continues from.
 //! - [`train`]: one training iteration (Adam, schedule, gradient normalisation, overflow
@@ -53,6 +54,7 @@ pub mod pool;
 pub mod region;
 pub mod session;
 pub mod snapshot;
+pub mod style_face_loss;
 pub mod synth;
 pub mod targets;
 pub mod tensors;
@@ -65,3 +67,4 @@ pub use faces::{FacePatch, face_patches};
 pub use loss::{FaceLoss, MomentLoss};
 pub use model::Nca;
 pub use region::Region;
+pub use style_face_loss::{FaceLossKind, StyleFaceLoss, face_loss};

@@ -186,7 +186,7 @@ impl Trainer {
             &inputs.step,
             steps,
             cfg.memory.segment_steps,
-            |state| objective(state, inputs, loss, overflow_weight),
+            |state| objective(state, inputs, loss, it, overflow_weight),
         );
         let lr = cfg.learning_rate(it);
         let grads = normalise_gradients(&self.model, out.grads);
@@ -239,6 +239,7 @@ fn objective(
     state: Tensor<4>,
     inputs: &RegionInputs,
     loss: &dyn FaceLoss,
+    iteration: usize,
     overflow_weight: f32,
 ) -> Objective {
     let rgb = state.clone().narrow(0, 0, 3);
@@ -250,7 +251,7 @@ fn objective(
             ..generated
         })
         .collect();
-    let style = loss.loss(&faces);
+    let style = loss.loss(&faces, iteration);
     let overflow = (state.clone() - state.clamp(-1.0, 1.0)).abs().mean();
     let terms = vec![
         ("style", style.clone().inner().into_scalar::<f32>()),

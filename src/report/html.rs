@@ -7,7 +7,8 @@
 //! - `sheet.png`, `sheets/*.png`: comparison sheets;
 //! - `renders/*.png`: lit cubes, carved objects, turntables;
 //! - `fit/sheet.png`, `fit/loss.csv`; `train/loss.png`, `train/loss.csv`;
-//! - `synth/unfolded.png`, `sample/truth/cut1.png`, `sample/truth/cut2.png`;
+//! - `unfolded.png` (reference and NCA crosses), `synth/unfolded.png`, `sample/truth/cut1.png`,
+//!   `sample/truth/cut2.png`;
 //! - `metrics.csv`: one row per (method, image), first columns `method` and `image`, then
 //!   numeric metrics (as `xylem compare` names them).
 
@@ -107,7 +108,7 @@ fn sections(run: &Path) -> Vec<Section> {
         Section {
             title: "Unfolded faces and cuts",
             images: existing(&[
-                "sample/unfolded.png",
+                "unfolded.png",
                 "synth/unfolded.png",
                 "sample/truth/cut1.png",
                 "sample/truth/cut2.png",

@@ -1,0 +1,324 @@
+//! `xylem run`: the whole pipeline on one sample folder: fit -> NCA training -> synthesis ->
+//! comparison sheet, renders, metrics -> HTML report, all inside one run folder. Steps whose
+//! outputs exist are skipped and an interrupted training resumes, so re-running the same
+//! command continues a killed run.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result};
+use clap::Args;
+use xylem::device::DeviceKind;
+use xylem::field::{BaseColourTexture, ColourSpace, FieldConfig, GrowthField, RingImage};
+use xylem::frame::Face;
+use xylem::io::{OutputDir, load_rgb, save_png, write_bytes_atomic};
+use xylem::outputs::{CROSS_BACKGROUND, SliceSet};
+use xylem::procedural::{ProceduralWood, SpeciesConfig};
+use xylem::render::lathe::{SHIPPED_SEGMENTS, turned_bowl};
+use xylem::render::{RenderConfig, Shape, render, turntable};
+use xylem::report::{Column, SHEET_ROWS, captioned_row, comparison_sheet, write_report};
+use xylem::sample::parse_faces;
+use xylem::slice::unfold_cross;
+use xylem::texture::SolidTexture;
+use xylem::volume::Volume;
+
+use super::{fit_cmd, run_metrics, synth_cmd, train_cmd};
+
+/// The NCA config used when none is given: `configs/nca/quick.toml`, built in.
+pub const QUICK_NCA: &str = include_str!("../../configs/nca/quick.toml");
+
+/// Run the whole pipeline on a sample folder and write a report.
+#[derive(Args, Debug, Clone)]
+#[command(after_help = "Examples:
+  xylem run --sample ../shared/data/mokume/CN03 --out out/cn03
+  xylem run --sample ../shared/data/mokume/H11 --out out/h11-noC --faces A,B,D,E,F
+
+Writes into RUN: fit/ (xylem fit), train/ (xylem train), synth/ (xylem synth), sheet.png
+(rows: faces A-F, cut1, cut2; columns: photo or truth, fitted rings, base colour,
+procedural, NCA), renders/, metrics.csv and report/index.html. Re-running the same command
+skips finished steps and resumes an interrupted training.")]
+pub struct RunArgs {
+    /// Sample folder (Mokume layout; a `truth/` folder, as `xylem sample` writes, adds the
+    /// true cuts to the sheet and the metrics).
+    #[arg(long)]
+    pub sample: PathBuf,
+    /// Run folder.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Faces to fit and train on (leave-one-face-out), e.g. A,B,C,D,E; default all six.
+    #[arg(long)]
+    pub faces: Option<String>,
+    /// NCA training config (default: the built-in configs/nca/quick.toml).
+    #[arg(long)]
+    pub nca_config: Option<PathBuf>,
+    /// Fit config (default: the built-in defaults).
+    #[arg(long)]
+    pub fit_config: Option<PathBuf>,
+    /// Species whose procedural colours are shown on the fitted field in the sheet (a
+    /// synthetic sample shows its own truth instead).
+    #[arg(long, default_value = "chestnut")]
+    pub species: String,
+    /// NCA unroll steps of the synthesis.
+    #[arg(long, default_value_t = 24)]
+    pub synth_steps: usize,
+    /// Tile size of the sheet and side of the renders, in pixels.
+    #[arg(long, default_value_t = 160)]
+    pub image_size: usize,
+    /// CPU backend of the NCA.
+    #[arg(long, default_value = "flex")]
+    pub device: DeviceKind,
+}
+
+pub fn run(args: RunArgs) -> Result<()> {
+    let out = OutputDir::prepare(&args.out)?;
+    let faces = match &args.faces {
+        Some(list) => parse_faces(list)?,
+        None => Face::ALL.to_vec(),
+    };
+    fit_step(&args, &out)?;
+    train_step(&args, &out)?;
+    synth_step(&args, &out)?;
+    let fit = FieldConfig::load(&out.path("fit/fit.toml"))?;
+    let nca = xylem::io::npy::read_volume(&out.path("synth/volume.npy"))?;
+    let truth = truth_species(&args.sample)?;
+    let species = match &truth {
+        Some(t) => t.clone(),
+        None => species_on_field(&args.species, &fit)?,
+    };
+    let procedural = ProceduralWood::new(&species);
+    step("sheet");
+    write_sheet(&args, &out, &fit, &procedural, truth.is_some(), &nca)?;
+    write_unfolded(&args, &out, &nca)?;
+    step("renders");
+    write_renders(&args, &out, &fit, &procedural, &nca)?;
+    step("metrics");
+    let table = run_metrics::metrics_table(&args.sample, &out, &faces, &fit, &procedural, &nca)?;
+    write_bytes_atomic(&out.path("metrics.csv"), table.to_csv().as_bytes())?;
+    step("report");
+    let title = format!("xylem run: {}", args.sample.display());
+    let images = write_report(out.root(), &out.path("report/index.html"), &title)?;
+    println!(
+        "wrote {}/report/index.html ({images} images)",
+        args.out.display()
+    );
+    Ok(())
+}
+
+fn step(name: &str) {
+    eprintln!("== {name}");
+}
+
+fn fit_step(args: &RunArgs, out: &OutputDir) -> Result<()> {
+    if out.path("fit/fit.toml").is_file() {
+        step("fit (done, skipped)");
+        return Ok(());
+    }
+    step("fit");
+    fit_cmd::run(fit_cmd::FitArgs {
+        sample: args.sample.clone(),
+        out: out.path("fit"),
+        faces: args.faces.clone(),
+        config: args.fit_config.clone(),
+    })
+}
+
+fn train_step(args: &RunArgs, out: &OutputDir) -> Result<()> {
+    let dir = out.path("train");
+    // Training writes model.bpk only when it has done all its iterations.
+    if dir.join("model.bpk").is_file() {
+        step("train (done, skipped)");
+        return Ok(());
+    }
+    let resume = xylem::nca::snapshot::exists(&dir);
+    step(if resume { "train (resuming)" } else { "train" });
+    let config = match &args.nca_config {
+        Some(path) => path.clone(),
+        None => {
+            let path = out.path("nca_quick.toml");
+            write_bytes_atomic(&path, QUICK_NCA.as_bytes())?;
+            path
+        }
+    };
+    train_cmd::run(train_cmd::TrainArgs {
+        sample: args.sample.clone(),
+        fit: (!resume).then(|| out.path("fit")),
+        config: (!resume).then_some(config),
+        out: dir,
+        device: args.device,
+        resume,
+        faces: if resume { None } else { args.faces.clone() },
+        stop_after: None,
+    })
+}
+
+fn synth_step(args: &RunArgs, out: &OutputDir) -> Result<()> {
+    if out.path("synth/volume.npy").is_file() {
+        step("synth (done, skipped)");
+        return Ok(());
+    }
+    step("synth");
+    synth_cmd::run(synth_cmd::SynthArgs {
+        model: out.path("train"),
+        size: None,
+        steps: args.synth_steps,
+        seed: None,
+        out: out.path("synth"),
+        device: args.device,
+    })
+}
+
+/// The species config of a synthetic sample (`truth/species.toml`), if it has one.
+fn truth_species(sample: &Path) -> Result<Option<SpeciesConfig>> {
+    let path = sample.join("truth/species.toml");
+    Ok(if path.is_file() {
+        Some(SpeciesConfig::load(&path)?)
+    } else {
+        None
+    })
+}
+
+/// A species preset's colours on the fitted growth field.
+fn species_on_field(name: &str, fit: &FieldConfig) -> Result<SpeciesConfig> {
+    let mut species = xylem::presets::load_species_preset(name)?;
+    species.pith = fit.pith.clone();
+    species.growth = fit.growth.clone();
+    species.knots = fit.knots.clone();
+    Ok(species)
+}
+
+/// The base colour of a fit in real colour, for cuts and volumes.
+fn base_colour(fit: &FieldConfig) -> Result<BaseColourTexture> {
+    let colour = fit
+        .base_colour
+        .clone()
+        .context("fit.toml has no [base_colour] section")?;
+    Ok(BaseColourTexture::new(
+        GrowthField::from_config(fit),
+        colour,
+        ColourSpace::Real(None),
+    ))
+}
+
+/// Photos of the faces, and the true cuts when the sample has them.
+fn reference_column(sample: &Path) -> Result<Vec<Option<xylem::Image2>>> {
+    SHEET_ROWS
+        .iter()
+        .map(|row| {
+            let path = match Face::parse(row) {
+                Some(face) => sample.join(format!("{face}_col.png")),
+                None => sample.join(format!("truth/{row}.png")),
+            };
+            path.is_file()
+                .then(|| load_rgb(&path))
+                .transpose()
+                .map_err(Into::into)
+        })
+        .collect()
+}
+
+fn write_sheet(
+    args: &RunArgs,
+    out: &OutputDir,
+    fit: &FieldConfig,
+    procedural: &ProceduralWood,
+    synthetic: bool,
+    nca: &Volume,
+) -> Result<()> {
+    let field = GrowthField::from_config(fit);
+    let rings = RingImage(&field);
+    let base = base_colour(fit)?;
+    let (reference, procedural_title) = if synthetic {
+        ("truth", "procedural")
+    } else {
+        ("photo", "procedural")
+    };
+    let columns = vec![
+        (
+            reference.to_string(),
+            Column::Images(reference_column(&args.sample)?),
+        ),
+        ("fitted rings".to_string(), Column::Texture(&rings)),
+        ("base colour".to_string(), Column::Texture(&base)),
+        (procedural_title.to_string(), Column::Texture(procedural)),
+        ("NCA".to_string(), Column::Texture(nca)),
+    ];
+    save_png(
+        &comparison_sheet(&columns, args.image_size),
+        &out.path("sheet.png"),
+    )?;
+    Ok(())
+}
+
+/// The reference faces (photos, or the synthetic truth) and the NCA's, both unfolded, side
+/// by side.
+fn write_unfolded(args: &RunArgs, out: &OutputDir, nca: &Volume) -> Result<()> {
+    let reference = reference_column(&args.sample)?;
+    let n = args.image_size;
+    let faces: Vec<xylem::Image2> = Face::ALL
+        .iter()
+        .map(|f| {
+            reference[f.index()]
+                .as_ref()
+                .map_or_else(|| xylem::Image2::filled(n, n, 3, 0.85), |i| i.resized(n, n))
+        })
+        .collect();
+    let faces: [xylem::Image2; 6] = faces.try_into().expect("six faces");
+    let photo_cross = unfold_cross(&faces, CROSS_BACKGROUND);
+    let nca_cross = SliceSet::render(nca, n).cross();
+    let items = [
+        ("reference".to_string(), &photo_cross),
+        ("NCA".to_string(), &nca_cross),
+    ];
+    save_png(&captioned_row(&items), &out.path("unfolded.png"))?;
+    Ok(())
+}
+
+fn write_renders(
+    args: &RunArgs,
+    out: &OutputDir,
+    fit: &FieldConfig,
+    procedural: &ProceduralWood,
+    nca: &Volume,
+) -> Result<()> {
+    let cfg = RenderConfig::default_config();
+    let n = args.image_size * 2;
+    let base = base_colour(fit)?;
+    let textures: [(&str, &dyn SolidTexture); 3] = [
+        ("NCA", nca),
+        ("base colour", &base),
+        ("procedural", procedural),
+    ];
+    let cubes: Vec<(String, xylem::Image2)> = textures
+        .iter()
+        .map(|(name, t)| {
+            (
+                name.to_string(),
+                render(*t, &Shape::Cube, &cfg.camera, &cfg, n, n),
+            )
+        })
+        .collect();
+    let items: Vec<(String, &xylem::Image2)> = cubes
+        .iter()
+        .map(|(c, i)| (format!("cube: {c}"), i))
+        .collect();
+    save_png(&captioned_row(&items), &out.path("renders/cubes.png"))?;
+    let bowl = Shape::carved(&turned_bowl(SHIPPED_SEGMENTS), &cfg.carve);
+    let bowls: Vec<(String, xylem::Image2)> = textures[..1]
+        .iter()
+        .chain(&textures[2..])
+        .map(|(name, t)| {
+            (
+                name.to_string(),
+                render(*t, &bowl, &cfg.mesh_camera, &cfg, n, n),
+            )
+        })
+        .collect();
+    let items: Vec<(String, &xylem::Image2)> = bowls
+        .iter()
+        .map(|(c, i)| (format!("bowl: {c}"), i))
+        .collect();
+    save_png(&captioned_row(&items), &out.path("renders/bowls.png"))?;
+    let strip = turntable(nca, &Shape::Cube, &cfg, args.image_size, args.image_size);
+    save_png(&strip, &out.path("renders/turntable_nca.png"))
+        .with_context(|| format!("writing renders into {}", out.root().display()))?;
+    Ok(())
+}

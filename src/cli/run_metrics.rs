@@ -1,0 +1,106 @@
+//! The metrics table of a run (`metrics.csv`): every method's image against every reference
+//! the sample offers, with the metrics of `xylem compare`.
+//!
+//! References, in order of value: the true cuts of a synthetic sample (`truth/cut1.png`,
+//! `cut2.png`: hidden from fit and training), then the photos of held-out faces (faces left
+//! out with `--faces`), and, when neither exists, the photos of the faces trained on (marked
+//! "(trained)": they show how well the method reproduces its own targets, not how well it
+//! predicts).
+
+use std::path::Path;
+
+use anyhow::Result;
+use burn::tensor::Device;
+use xylem::field::{BaseColourTexture, ColourSpace, FieldConfig, GrowthField};
+use xylem::frame::{Face, Plane};
+use xylem::image2::Image2;
+use xylem::io::{OutputDir, load_rgb};
+use xylem::loss::LossConfig;
+use xylem::metrics::{Comparer, METRIC_NAMES};
+use xylem::procedural::ProceduralWood;
+use xylem::report::MetricsTable;
+use xylem::slice::slice_plane;
+use xylem::texture::SolidTexture;
+use xylem::volume::Volume;
+
+/// One reference image and the plane it shows.
+struct Reference {
+    name: String,
+    image: Image2,
+    plane: Plane,
+    face: Option<Face>,
+}
+
+fn references(sample: &Path, trained: &[Face]) -> Result<Vec<Reference>> {
+    let mut refs = Vec::new();
+    for (name, plane) in [("cut1", Plane::cut1()), ("cut2", Plane::cut2())] {
+        let path = sample.join(format!("truth/{name}.png"));
+        if path.is_file() {
+            refs.push(Reference {
+                name: name.into(),
+                image: load_rgb(&path)?,
+                plane,
+                face: None,
+            });
+        }
+    }
+    let held_out: Vec<Face> = Face::ALL
+        .into_iter()
+        .filter(|f| !trained.contains(f))
+        .collect();
+    let (faces, suffix) = match (refs.is_empty(), held_out.is_empty()) {
+        (_, false) => (held_out, " (held out)"),
+        (true, true) => (trained.to_vec(), " (trained)"),
+        (false, true) => (vec![], ""),
+    };
+    for face in faces {
+        let image = load_rgb(&sample.join(format!("{face}_col.png")))?;
+        refs.push(Reference {
+            name: format!("{face}{suffix}"),
+            image,
+            plane: Plane::face(face),
+            face: Some(face),
+        });
+    }
+    Ok(refs)
+}
+
+/// The metrics table of a run whose fit, synthesis and procedural texture are given.
+pub fn metrics_table(
+    sample: &Path,
+    _out: &OutputDir,
+    trained: &[Face],
+    fit: &FieldConfig,
+    procedural: &ProceduralWood,
+    nca: &Volume,
+) -> Result<MetricsTable> {
+    let synthetic = sample.join("truth/species.toml").is_file();
+    let comparer = Comparer::new(&LossConfig::default_config(), &Device::flex());
+    let field = GrowthField::from_config(fit);
+    let colour = fit.base_colour.clone();
+    let mut header = vec!["method".to_string(), "image".to_string()];
+    header.extend(METRIC_NAMES.iter().map(|s| s.to_string()));
+    let mut rows = Vec::new();
+    for reference in references(sample, trained)? {
+        let base = colour
+            .clone()
+            .map(|c| BaseColourTexture::new(field.clone(), c, ColourSpace::Real(reference.face)));
+        let mut methods: Vec<(&str, &dyn SolidTexture)> = vec![("nca", nca)];
+        if let Some(b) = &base {
+            methods.push(("base colour", b));
+        }
+        if !synthetic {
+            // On a synthetic sample the procedural texture is the truth itself.
+            methods.push(("procedural", procedural));
+        }
+        let (w, h) = (reference.image.width, reference.image.height);
+        for (method, texture) in methods {
+            let candidate = slice_plane(texture, &reference.plane, w, h);
+            let metrics = comparer.compare(&reference.image, &candidate)?;
+            let mut row = vec![method.to_string(), reference.name.clone()];
+            row.extend(metrics.csv_fields());
+            rows.push(row);
+        }
+    }
+    Ok(MetricsTable { header, rows })
+}
