@@ -1,5 +1,6 @@
-//! Render time of an 800x800 cube view (3x3 samples per pixel, the default config) from a
-//! point-wise texture and from a 256^3 volume, on the machine's threads.
+//! Render time of an 800x800 cube view (3x3 samples per pixel, the default config) from
+//! point-wise textures (the growth field's ring image; the procedural oak with its fibre
+//! highlight) and from a 256^3 volume, on the machine's threads.
 //!
 //!     cargo run --release --example bench_render [-- SIZE]
 
@@ -7,7 +8,8 @@ use std::time::Instant;
 
 use xylem::Volume;
 use xylem::field::{GrowthField, RingImage};
-use xylem::presets::load_field_preset;
+use xylem::presets::{load_field_preset, load_species_preset};
+use xylem::procedural::{ProceduralWood, WithFibreDirection};
 use xylem::render::{RenderConfig, Shape, TriMesh, render};
 use xylem::texture::SolidTexture;
 
@@ -47,6 +49,14 @@ fn main() {
     time_render(
         "cube, growth field (point-wise)",
         &rings,
+        &Shape::Cube,
+        &cfg,
+        size,
+    );
+    let oak = ProceduralWood::new(&load_species_preset("oak").expect("oak preset"));
+    time_render(
+        "cube, procedural oak + fibre highlight",
+        &WithFibreDirection(&oak),
         &Shape::Cube,
         &cfg,
         size,

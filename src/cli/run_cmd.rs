@@ -226,11 +226,7 @@ fn write_sheet(
     let field = GrowthField::from_config(fit);
     let rings = RingImage(&field);
     let base = base_colour(fit)?;
-    let (reference, procedural_title) = if synthetic {
-        ("truth", "procedural")
-    } else {
-        ("photo", "procedural")
-    };
+    let reference = if synthetic { "truth" } else { "photo" };
     let columns = vec![
         (
             reference.to_string(),
@@ -238,7 +234,7 @@ fn write_sheet(
         ),
         ("fitted rings".to_string(), Column::Texture(&rings)),
         ("base colour".to_string(), Column::Texture(&base)),
-        (procedural_title.to_string(), Column::Texture(procedural)),
+        ("procedural".to_string(), Column::Texture(procedural)),
         ("NCA".to_string(), Column::Texture(nca)),
     ];
     save_png(
