@@ -1,0 +1,159 @@
+//! The adjoint (transpose) of the perception with replicate padding: from the gradients of
+//! the five filter responses of a channel, the gradient of the channel itself.
+//!
+//! Every filter is a sum of products of 1D operators along x, y, z with clamped indices:
+//! I (identity), E (the two neighbours), S = E + 2 I, B = E + I and D (neighbour above minus
+//! neighbour below). Replicate padding makes E, and so S and B, symmetric matrices: a
+//! clamped neighbour of a border cell is the cell itself, on both sides of the transpose. D
+//! is not: its transpose is D^T w[i] = w[i - 1] - w[i + 1] with w[-1] = -w[0] and
+//! w[N] = -w[N - 1] (the border contributions, summed). So, for the gradients p0..p4 of
+//! identity, Sobel x, y, z and the Laplacian of one channel,
+//!
+//! ds = p0 + (D^T S S p1 + S D^T S p2 + S S D^T p3) / 4
+//!         + (B B B + S S S + E I I + I E I + I I E - 97 I) p4 / 8
+//!
+//! evaluated like the forward filters: xy combinations of the 3 x 3 neighbouring z-lines
+//! (with the sign rule of D^T at the x and y borders), then along z (the z sign rule is
+//! applied to the one-past-the-end values of the Sobel z line).
+
+use super::perceive::{Lines, MAX_PIECE, window};
+use crate::nca::config::FILTERS;
+
+/// xy combinations over a piece plus one value at each end (index j is z = clamp(z0 - 1 + j)).
+pub struct AdjointScratch {
+    /// Sobel x and y parts (both get [1,2,1] along z).
+    sxy: Vec<f32>,
+    /// Sobel z part (gets D^T along z).
+    sz: Vec<f32>,
+    /// Laplacian parts: box, [1,2,1]^2, xy face neighbours, centre.
+    lb: Vec<f32>,
+    ls: Vec<f32>,
+    lf: Vec<f32>,
+    lc: Vec<f32>,
+}
+
+impl Default for AdjointScratch {
+    fn default() -> Self {
+        let line = || vec![0.0f32; MAX_PIECE + 2];
+        Self {
+            sxy: line(),
+            sz: line(),
+            lb: line(),
+            ls: line(),
+            lf: line(),
+            lc: line(),
+        }
+    }
+}
+
+/// Signs of D^T's lower and upper neighbour at index i of an axis of n cells (-1 where the
+/// neighbour is the clamped cell itself).
+#[inline(always)]
+pub fn border_signs(i: usize, n: usize) -> (f32, f32) {
+    (
+        if i == 0 { -1.0 } else { 1.0 },
+        if i + 1 == n { -1.0 } else { 1.0 },
+    )
+}
+
+/// xy combinations of the four non-identity gradient fields at z in [z0, z0 + len),
+/// written to `at..at + len` of each scratch line. `signs` = (x lower, x upper, y lower,
+/// y upper) of D^T.
+#[inline(always)]
+fn xy_adjoint(
+    fields: &[Lines; FILTERS],
+    signs: [f32; 4],
+    z0: usize,
+    len: usize,
+    t: &mut AdjointScratch,
+    at: usize,
+) {
+    let sl = |f: usize| fields[f].map(|r| r.map(|s| &s[z0..z0 + len]));
+    let (p, q, r, u) = (sl(1), sl(2), sl(3), sl(4));
+    let [sxm, sxp, sym, syp] = signs;
+    let sxy = &mut t.sxy[at..at + len];
+    let sz = &mut t.sz[at..at + len];
+    let (lb, ls) = (&mut t.lb[at..at + len], &mut t.ls[at..at + len]);
+    let (lf, lc) = (&mut t.lf[at..at + len], &mut t.lc[at..at + len]);
+    for j in 0..len {
+        // D^T along x of [1,2,1] along y, and the reverse.
+        let px = sxm * (p[0][0][j] + 2.0 * p[0][1][j] + p[0][2][j])
+            - sxp * (p[2][0][j] + 2.0 * p[2][1][j] + p[2][2][j]);
+        let qy = sym * (q[0][0][j] + 2.0 * q[1][0][j] + q[2][0][j])
+            - syp * (q[0][2][j] + 2.0 * q[1][2][j] + q[2][2][j]);
+        sxy[j] = px + qy;
+        let rs = [0, 1, 2].map(|a| r[a][0][j] + 2.0 * r[a][1][j] + r[a][2][j]);
+        sz[j] = rs[0] + 2.0 * rs[1] + rs[2];
+        let us = [0, 1, 2].map(|a| u[a][0][j] + 2.0 * u[a][1][j] + u[a][2][j]);
+        let ub = [0, 1, 2].map(|a| u[a][0][j] + u[a][1][j] + u[a][2][j]);
+        ls[j] = us[0] + 2.0 * us[1] + us[2];
+        lb[j] = ub[0] + ub[1] + ub[2];
+        lf[j] = u[0][1][j] + u[2][1][j] + u[1][0][j] + u[1][2][j];
+        lc[j] = u[1][1][j];
+    }
+}
+
+/// `out[j] = g[j] + (adjoint perception of the five gradient fields)` at z0 + j of line
+/// (x, y); `fields[f]` are the neighbour lines of filter f's gradient, `signs` from
+/// [`border_signs`] for x and y.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub fn adjoint_piece(
+    fields: &[Lines; FILTERS],
+    signs: [f32; 4],
+    z0: usize,
+    len: usize,
+    nz: usize,
+    t: &mut AdjointScratch,
+    g: &[f32],
+    out: &mut [f32],
+) {
+    xy_adjoint(fields, signs, z0, len, t, 1);
+    xy_adjoint(fields, signs, z0.saturating_sub(1), 1, t, 0);
+    xy_adjoint(fields, signs, (z0 + len).min(nz - 1), 1, t, len + 1);
+    // D^T along z: a clamped end value (the cell itself) enters with the opposite sign.
+    if z0 == 0 {
+        t.sz[0] = -t.sz[0];
+    }
+    if z0 + len == nz {
+        t.sz[len + 1] = -t.sz[len + 1];
+    }
+    let (am, ac, ap) = (
+        window(&t.sxy, 0, len),
+        window(&t.sxy, 1, len),
+        window(&t.sxy, 2, len),
+    );
+    let (zm, zp) = (window(&t.sz, 0, len), window(&t.sz, 2, len));
+    let (bm, bc, bp) = (
+        window(&t.lb, 0, len),
+        window(&t.lb, 1, len),
+        window(&t.lb, 2, len),
+    );
+    let (sm, sc, sp) = (
+        window(&t.ls, 0, len),
+        window(&t.ls, 1, len),
+        window(&t.ls, 2, len),
+    );
+    let (cm, cc, cp) = (
+        window(&t.lc, 0, len),
+        window(&t.lc, 1, len),
+        window(&t.lc, 2, len),
+    );
+    let fc = window(&t.lf, 1, len);
+    let identity = &fields[0][1][1][z0..z0 + len];
+    let (g, out) = (&g[..len], &mut out[..len]);
+    for j in 0..len {
+        let sobel = am[j] + 2.0 * ac[j] + ap[j] + zm[j] - zp[j];
+        let boxed = bm[j] + bc[j] + bp[j];
+        let smooth = sm[j] + 2.0 * sc[j] + sp[j];
+        let lap = boxed + smooth + fc[j] + cm[j] + cp[j] - 97.0 * cc[j];
+        out[j] = g[j] + identity[j] + 0.25 * sobel + 0.125 * lap;
+    }
+}
+
+/// Start and length of the z-pieces of a line of `nz` cells.
+pub fn piece_starts(nz: usize) -> impl Iterator<Item = (usize, usize)> {
+    (0..nz)
+        .step_by(MAX_PIECE)
+        .map(move |z0| (z0, MAX_PIECE.min(nz - z0)))
+}
