@@ -11,7 +11,7 @@
 //! `unroll` runs STEPS steps of a SIZE^3 volume without gradients (weights random like a
 //! trained model's, 2 conditioning channels) after one warm-up step and prints cell-updates
 //! per second. `train` runs ITERS (default 3) training iterations of `nca::train::Trainer`
-//! (unroll, stand-in face loss + overflow, backward, gradient normalisation, Adam) after one
+//! on the burn engine (`examples/bench_fused.rs` measures the fused one) (unroll, stand-in face loss + overflow, backward, gradient normalisation, Adam) after one
 //! warm-up iteration and prints the mean seconds per iteration. Peak memory: run under
 //! `/usr/bin/time -v` (one configuration per process). Denormals are flushed to zero as in
 //! the CLI (`nca::denormals`); set `XYLEM_KEEP_DENORMALS=1` to measure without.
@@ -113,7 +113,7 @@ fn quick_config(
     let text = format!(
         "seed = 1\n[model]\nperception = \"{}\"\n[volume]\nsize = {size}\ncrop = {crop}\n\
          [schedule]\niterations = 1000\nsteps = [{steps}, {steps}]\n[pool]\nsize = 0\n\
-         [memory]\nsegment_steps = {segment}\n",
+         [memory]\nsegment_steps = {segment}\n[compute]\nengine = \"burn\"\n",
         match imp {
             PerceptionImpl::Shifted => "shifted",
             PerceptionImpl::Conv => "conv",
@@ -154,12 +154,12 @@ fn bench_train(
         normalisation,
     };
     let loss = MomentLoss::new(&data.targets, &kind.device());
-    let mut trainer = Trainer::new(&config, &data, kind);
-    trainer.iterate(&loss); // warm-up
+    let mut trainer = Trainer::new(&config, &data, kind).unwrap();
+    trainer.iterate(&loss).unwrap(); // warm-up
     let t = Instant::now();
     let mut last = 0.0;
     for _ in 0..iters {
-        last = trainer.iterate(&loss).loss;
+        last = trainer.iterate(&loss).unwrap().loss;
     }
     let dt = t.elapsed().as_secs_f64() / iters as f64;
     println!(
