@@ -240,10 +240,11 @@ fn perception_adjoint_body<K: Kernels>(
         let line = dims.line(x, y);
         for (z0, len) in piece_starts(nz) {
             for (c, out_c) in out.iter_mut().enumerate() {
-                let fields = std::array::from_fn(|f| {
+                let field = |f: usize| {
                     let row = FILTERS * c + f;
                     neighbour_lines(&dp[row * cells..(row + 1) * cells], dims, x, y)
-                });
+                };
+                let fields = [field(0), field(1), field(2), field(3), field(4)];
                 let g = &g_next[c * cells + line + z0..][..len];
                 let dst = &mut out_c[y * nz + z0..][..len];
                 adjoint_piece(&fields, [sxm, sxp, sym, syp], z0, len, nz, t, g, dst);

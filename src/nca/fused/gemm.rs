@@ -76,10 +76,14 @@ pub fn gemm<S: Simd, const RM: usize, const NV: usize>(
         .zip(c.chunks_exact_mut(RM * stride))
         .enumerate()
     {
-        let bias: [S::V; RM] = std::array::from_fn(|r| match store {
-            Store::Plain => s.zero(),
-            Store::Bias(b) | Store::BiasRelu(b) => s.splat(b[t * RM + r]),
-        });
+        // Plain loops rather than `array::from_fn`: a closure that is not inlined would call
+        // the intrinsics out of the `#[target_feature]` function (measured: 18% of a step).
+        let mut bias = [s.zero(); RM];
+        if let Store::Bias(b) | Store::BiasRelu(b) = store {
+            for (r, v) in bias.iter_mut().enumerate() {
+                *v = s.splat(b[t * RM + r]);
+            }
+        }
         for col in (0..cols).step_by(NV * LANES) {
             let mut acc = [[s.zero(); NV]; RM];
             for (r, row) in acc.iter_mut().enumerate() {
@@ -87,7 +91,10 @@ pub fn gemm<S: Simd, const RM: usize, const NV: usize>(
             }
             for (kk, w) in a_tile.chunks_exact(RM).enumerate() {
                 let row = &b[kk * stride + col..kk * stride + col + NV * LANES];
-                let x: [S::V; NV] = std::array::from_fn(|v| s.load(lane(row, v * LANES)));
+                let mut x = [s.zero(); NV];
+                for (v, xv) in x.iter_mut().enumerate() {
+                    *xv = s.load(lane(row, v * LANES));
+                }
                 for r in 0..RM {
                     let wr = s.splat(w[r]);
                     for v in 0..NV {
@@ -129,7 +136,10 @@ pub fn reduce<S: Simd, const RM: usize, const RK: usize>(
                 std::array::from_fn(|q| &y[(kt * RK + q) * stride..][..nvec * LANES]);
             let mut acc = [[s.zero(); RK]; RM];
             for v in 0..nvec {
-                let yv: [S::V; RK] = std::array::from_fn(|q| s.load(lane(ys[q], v * LANES)));
+                let mut yv = [s.zero(); RK];
+                for (q, y) in yv.iter_mut().enumerate() {
+                    *y = s.load(lane(ys[q], v * LANES));
+                }
                 for r in 0..RM {
                     let xv = s.load(lane(xs[r], v * LANES));
                     for q in 0..RK {

@@ -30,7 +30,12 @@ pub fn neighbour_lines(plane: &[f32], dims: Dims, x: usize, y: usize) -> Lines<'
     let [nx, ny, nz] = dims.0;
     let xs = [x.saturating_sub(1), x, (x + 1).min(nx - 1)];
     let ys = [y.saturating_sub(1), y, (y + 1).min(ny - 1)];
-    xs.map(|xa| ys.map(|yb| &plane[dims.line(xa, yb)..][..nz]))
+    let line = |a: usize, b: usize| &plane[dims.line(xs[a], ys[b])..][..nz];
+    [
+        [line(0, 0), line(0, 1), line(0, 2)],
+        [line(1, 0), line(1, 1), line(1, 2)],
+        [line(2, 0), line(2, 1), line(2, 2)],
+    ]
 }
 
 /// The six xy lines of the forward filters, over a piece plus one value at each end:
@@ -58,11 +63,22 @@ impl Default for ForwardScratch {
     }
 }
 
+/// The lines restricted to z in [z0, z0 + len).
+#[inline(always)]
+pub fn slice_lines<'a>(l: &Lines<'a>, z0: usize, len: usize) -> Lines<'a> {
+    let cut = |a: usize, b: usize| &l[a][b][z0..z0 + len];
+    [
+        [cut(0, 0), cut(0, 1), cut(0, 2)],
+        [cut(1, 0), cut(1, 1), cut(1, 2)],
+        [cut(2, 0), cut(2, 1), cut(2, 2)],
+    ]
+}
+
 /// xy combinations of the lines at z in [z0, z0 + len), written to `at..at + len` of each
-/// scratch line.
+/// scratch line. (Written out term by term: array `map`s in this loop were not inlined.)
 #[inline(always)]
 fn xy_forward(l: &Lines, z0: usize, len: usize, t: &mut ForwardScratch, at: usize) {
-    let p = l.map(|r| r.map(|s| &s[z0..z0 + len]));
+    let [[l00, l01, l02], [l10, l11, l12], [l20, l21, l22]] = slice_lines(l, z0, len);
     let (s, dx, dy) = (
         &mut t.s[at..at + len],
         &mut t.dx[at..at + len],
@@ -73,16 +89,19 @@ fn xy_forward(l: &Lines, z0: usize, len: usize, t: &mut ForwardScratch, at: usiz
         &mut t.f[at..at + len],
         &mut t.c[at..at + len],
     );
+    // Two loops of nine input lines each vectorise; one loop writing all six did not.
     for j in 0..len {
-        let sy = [0, 1, 2].map(|a| p[a][0][j] + 2.0 * p[a][1][j] + p[a][2][j]);
-        let by = [0, 1, 2].map(|a| p[a][0][j] + p[a][1][j] + p[a][2][j]);
-        s[j] = sy[0] + 2.0 * sy[1] + sy[2];
-        dx[j] = sy[2] - sy[0];
-        dy[j] =
-            (p[0][2][j] - p[0][0][j]) + 2.0 * (p[1][2][j] - p[1][0][j]) + (p[2][2][j] - p[2][0][j]);
-        b[j] = by[0] + by[1] + by[2];
-        f[j] = p[0][1][j] + p[2][1][j] + p[1][0][j] + p[1][2][j];
-        c[j] = p[1][1][j];
+        let sy0 = l00[j] + 2.0 * l01[j] + l02[j];
+        let sy1 = l10[j] + 2.0 * l11[j] + l12[j];
+        let sy2 = l20[j] + 2.0 * l21[j] + l22[j];
+        s[j] = sy0 + 2.0 * sy1 + sy2;
+        dx[j] = sy2 - sy0;
+        dy[j] = (l02[j] - l00[j]) + 2.0 * (l12[j] - l10[j]) + (l22[j] - l20[j]);
+    }
+    for j in 0..len {
+        b[j] = (l00[j] + l01[j] + l02[j]) + (l10[j] + l11[j] + l12[j]) + (l20[j] + l21[j] + l22[j]);
+        f[j] = l01[j] + l21[j] + l10[j] + l12[j];
+        c[j] = l11[j];
     }
 }
 
@@ -212,10 +231,12 @@ pub fn fill_inputs(
             };
             let lines = neighbour_lines(plane, dims, x, piece.y);
             let rows = &mut inp[FILTERS * ch * stride..FILTERS * (ch + 1) * stride];
-            let mut it = rows.chunks_exact_mut(stride);
-            let out = std::array::from_fn(|_| {
-                &mut it.next().expect("five rows")[piece.col..piece.col + piece.len]
-            });
+            let (r0, rest) = rows.split_at_mut(stride);
+            let (r1, rest) = rest.split_at_mut(stride);
+            let (r2, rest) = rest.split_at_mut(stride);
+            let (r3, r4) = rest.split_at_mut(stride);
+            let cols = piece.col..piece.col + piece.len;
+            let out = [r0, r1, r2, r3, r4].map(|r| &mut r[cols.clone()]);
             perceive_piece(&lines, piece.z0, piece.len, nz, t, out);
         }
         let pos = shapes.position_row();

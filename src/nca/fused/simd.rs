@@ -51,16 +51,25 @@ impl Simd for Portable {
         *out = v;
     }
     #[inline(always)]
-    fn madd(self, a: Self::V, b: Self::V, c: Self::V) -> Self::V {
-        std::array::from_fn(|l| a[l] * b[l] + c[l])
+    fn madd(self, a: Self::V, b: Self::V, mut c: Self::V) -> Self::V {
+        for l in 0..LANES {
+            c[l] += a[l] * b[l];
+        }
+        c
     }
     #[inline(always)]
-    fn add(self, a: Self::V, b: Self::V) -> Self::V {
-        std::array::from_fn(|l| a[l] + b[l])
+    fn add(self, mut a: Self::V, b: Self::V) -> Self::V {
+        for l in 0..LANES {
+            a[l] += b[l];
+        }
+        a
     }
     #[inline(always)]
-    fn relu(self, a: Self::V) -> Self::V {
-        a.map(|x| x.max(0.0))
+    fn relu(self, mut a: Self::V) -> Self::V {
+        for x in a.iter_mut() {
+            *x = x.max(0.0);
+        }
+        a
     }
 }
 
