@@ -21,8 +21,8 @@ use super::forward::Stepper;
 use super::lanes::LANES;
 use super::layout::{BACKWARD_BLOCK, gemm_cols, planes_mut};
 use super::mlp::{BlockWork, GradLanes, backward_block};
-use super::perceive::{fill_inputs, neighbour_lines};
-use super::perceive_adjoint::{AdjointScratch, adjoint_piece, border_signs, piece_starts};
+use super::perceive::{fill_inputs, lines_at, neighbour_offsets};
+use super::perceive_adjoint::{AdjointScratch, adjoint_xy, adjoint_z, border_signs, piece_groups};
 use crate::nca::config::FILTERS;
 
 /// Gradients of the MLP weights, row-major as the weights (`MlpWeights`).
@@ -235,19 +235,23 @@ fn perception_adjoint_body<K: Kernels>(
     let [nx, ny, nz] = dims.0;
     let cells = dims.cells();
     let (sxm, sxp) = border_signs(x, nx);
-    for y in 0..ny {
-        let (sym, syp) = border_signs(y, ny);
-        let line = dims.line(x, y);
-        for (z0, len) in piece_starts(nz) {
-            for (c, out_c) in out.iter_mut().enumerate() {
-                let field = |f: usize| {
-                    let row = FILTERS * c + f;
-                    neighbour_lines(&dp[row * cells..(row + 1) * cells], dims, x, y)
-                };
-                let fields = [field(0), field(1), field(2), field(3), field(4)];
-                let g = &g_next[c * cells + line + z0..][..len];
-                let dst = &mut out_c[y * nz + z0..][..len];
-                adjoint_piece(&fields, [sxm, sxp, sym, syp], z0, len, nz, t, g, dst);
+    for group in piece_groups(ny, nz) {
+        for (c, out_c) in out.iter_mut().enumerate() {
+            let row = |f: usize| &dp[(FILTERS * c + f) * cells..][..cells];
+            let rows = [row(0), row(1), row(2), row(3), row(4)];
+            for p in &group {
+                let (sym, syp) = border_signs(p.y, ny);
+                let offsets = neighbour_offsets(dims, x, p.y);
+                let lines = |f: usize| lines_at(rows[f], &offsets, nz);
+                let fields = [lines(0), lines(1), lines(2), lines(3), lines(4)];
+                adjoint_xy(&fields, [sxm, sxp, sym, syp], p.z0, p.len, nz, t, p.at);
+            }
+            for p in &group {
+                let line = dims.line(x, p.y) + p.z0;
+                let identity = &rows[0][line..][..p.len];
+                let g = &g_next[c * cells + line..][..p.len];
+                let dst = &mut out_c[p.y * nz + p.z0..][..p.len];
+                adjoint_z(t, p.at, p.len, identity, g, dst);
             }
         }
     }

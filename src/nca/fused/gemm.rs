@@ -53,6 +53,9 @@ pub enum Store<'a> {
     Bias(&'a [f32]),
     /// `C = max(A B + bias, 0)`.
     BiasRelu(&'a [f32]),
+    /// `C = A B` where the matrix `mask` (same layout as C) is > 0, else 0: the ReLU's
+    /// backward pass, with the hidden layer after the ReLU as the mask.
+    Masked(&'a [f32]),
 }
 
 /// `C[0..rows][0..cols] = A B` (+ store variant), A packed by [`pack`] with `RM` rows per tile
@@ -70,7 +73,6 @@ pub fn gemm<S: Simd, const RM: usize, const NV: usize>(
     store: Store,
 ) {
     debug_assert_eq!(cols % (NV * LANES), 0);
-    let relu = matches!(store, Store::BiasRelu(_));
     for (t, (a_tile, c_rows)) in a
         .chunks_exact(k * RM)
         .zip(c.chunks_exact_mut(RM * stride))
@@ -104,8 +106,16 @@ pub fn gemm<S: Simd, const RM: usize, const NV: usize>(
             }
             for (r, out) in c_rows.chunks_exact_mut(stride).enumerate() {
                 for v in 0..NV {
-                    let value = if relu { s.relu(acc[r][v]) } else { acc[r][v] };
-                    s.store(value, lane_mut(out, col + v * LANES));
+                    let at = col + v * LANES;
+                    let value = match store {
+                        Store::BiasRelu(_) => s.relu(acc[r][v]),
+                        Store::Masked(mask) => {
+                            let m = s.load(lane(mask, (t * RM + r) * stride + at));
+                            s.select_positive(m, acc[r][v])
+                        }
+                        Store::Plain | Store::Bias(_) => acc[r][v],
+                    };
+                    s.store(value, lane_mut(out, at));
                 }
             }
         }

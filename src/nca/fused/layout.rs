@@ -19,7 +19,7 @@ use crate::nca::config::{FILTERS, POSITION_CHANNELS};
 pub const FORWARD_BLOCK: usize = 64;
 /// Cells per block in the backward step: the weight-gradient tiles stay in registers over a
 /// whole block, so larger blocks amortise their flush into the lane buffers.
-pub const BACKWARD_BLOCK: usize = 128;
+pub const BACKWARD_BLOCK: usize = 256;
 
 /// The sizes of one model on one instruction set.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -3,10 +3,10 @@
 //! Forward: hidden `[H][n]` = relu(W1 inputs + b1), delta `[C][n]` = W2 hidden; the hidden
 //! layer never leaves the core's caches.
 //! Backward, given g = dL/d(next state) `[C][n]` (the update is residual, so it is also
-//! dL/d delta): pre = W1 inputs + b1 is recomputed (cheaper than storing 128 floats per cell
-//! and step), then dh = W2^T g, dz = dh where pre > 0 else 0, and
-//! dW2 += g relu(pre)^T, db1 += sum dz, dW1 += dz inputs^T (lane partial sums, see
-//! `gemm::reduce`), d perceived-state = W1[:, ..5C]^T dz.
+//! dL/d delta): h = relu(W1 inputs + b1) is recomputed (cheaper than storing 128 floats per
+//! cell and step), then dz = W2^T g where h > 0 else 0 (h > 0 exactly where the
+//! pre-activation is), and dW2 += g h^T, db1 += sum dz, dW1 += dz inputs^T (lane partial
+//! sums, see `gemm::reduce`), d perceived-state = W1[:, ..5C]^T dz.
 
 use super::dispatch::Kernels;
 use super::gemm::{Store, reduce_rows};
@@ -21,9 +21,9 @@ pub struct BlockWork {
     pub stride: usize,
     /// Inputs `[input_rows][stride]` (rows beyond the inputs stay zero).
     pub inp: Vec<f32>,
-    /// Hidden layer (pre-activation in the backward pass) `[hidden_rows][stride]`.
+    /// Hidden layer after the ReLU `[hidden_rows][stride]`.
     pub hid: Vec<f32>,
-    /// Backward: dh, then dz `[hidden_rows][stride]`.
+    /// Backward: dz, the gradient of the hidden pre-activation `[hidden_rows][stride]`.
     pub dh: Vec<f32>,
     /// Gradient of the next state `[state_rows][stride]` (rows beyond C stay zero).
     pub g: Vec<f32>,
@@ -128,7 +128,7 @@ pub fn backward_block<K: Kernels>(
         &mut work.hid,
         stride,
         cols,
-        Store::Bias(&packed.b1),
+        Store::BiasRelu(&packed.b1),
     );
     k.gemm_hidden(
         &packed.w2t,
@@ -137,11 +137,7 @@ pub fn backward_block<K: Kernels>(
         &mut work.dh,
         stride,
         cols,
-        Store::Plain,
-    );
-    relu_backward(
-        &mut work.hid[..h_rows * stride],
-        &mut work.dh[..h_rows * stride],
+        Store::Masked(&work.hid),
     );
     k.reduce(
         &work.dh,
@@ -171,14 +167,4 @@ pub fn backward_block<K: Kernels>(
         cols,
         Store::Plain,
     );
-}
-
-/// pre -> relu(pre), dh -> dz = dh where pre > 0, else 0.
-#[inline(always)]
-fn relu_backward(pre: &mut [f32], dh: &mut [f32]) {
-    for (p, d) in pre.iter_mut().zip(dh.iter_mut()) {
-        let on = *p > 0.0;
-        *p = if on { *p } else { 0.0 };
-        *d = if on { *d } else { 0.0 };
-    }
 }

@@ -24,13 +24,25 @@ pub const MAX_PIECE: usize = 256;
 /// The 3 x 3 z-lines around (x, y), replicate-clamped: `[a][b]` is (x + a - 1, y + b - 1).
 pub type Lines<'a> = [[&'a [f32]; 3]; 3];
 
-/// Neighbour lines of (x, y) in one channel plane `[X, Y, Z]`.
+/// Offsets of the 3 x 3 z-lines around (x, y) in a channel plane `[X, Y, Z]`,
+/// replicate-clamped: `[a][b]` is line (x + a - 1, y + b - 1).
 #[inline(always)]
-pub fn neighbour_lines(plane: &[f32], dims: Dims, x: usize, y: usize) -> Lines<'_> {
-    let [nx, ny, nz] = dims.0;
+pub fn neighbour_offsets(dims: Dims, x: usize, y: usize) -> [[usize; 3]; 3] {
+    let [nx, ny, _] = dims.0;
     let xs = [x.saturating_sub(1), x, (x + 1).min(nx - 1)];
     let ys = [y.saturating_sub(1), y, (y + 1).min(ny - 1)];
-    let line = |a: usize, b: usize| &plane[dims.line(xs[a], ys[b])..][..nz];
+    let at = |a: usize, b: usize| dims.line(xs[a], ys[b]);
+    [
+        [at(0, 0), at(0, 1), at(0, 2)],
+        [at(1, 0), at(1, 1), at(1, 2)],
+        [at(2, 0), at(2, 1), at(2, 2)],
+    ]
+}
+
+/// The lines at `offsets` (from [`neighbour_offsets`]) of one channel plane, `nz` long.
+#[inline(always)]
+pub fn lines_at<'a>(plane: &'a [f32], offsets: &[[usize; 3]; 3], nz: usize) -> Lines<'a> {
+    let line = |a: usize, b: usize| &plane[offsets[a][b]..][..nz];
     [
         [line(0, 0), line(0, 1), line(0, 2)],
         [line(1, 0), line(1, 1), line(1, 2)],
@@ -39,7 +51,8 @@ pub fn neighbour_lines(plane: &[f32], dims: Dims, x: usize, y: usize) -> Lines<'
 }
 
 /// The six xy lines of the forward filters, over a piece plus one value at each end:
-/// index j is z = clamp(z0 - 1 + j).
+/// index j is z = clamp(z0 - 1 + j). One piece at a time: staging a whole block through
+/// the xy stage first (to avoid store-forwarding stalls in the z stage) measured slower.
 pub struct ForwardScratch {
     s: Vec<f32>,
     dx: Vec<f32>,
@@ -108,7 +121,7 @@ fn xy_forward(l: &Lines, z0: usize, len: usize, t: &mut ForwardScratch, at: usiz
 /// The five filter responses of one channel on the piece z0..z0 + len of line (x, y):
 /// `out[f][j]` is filter f at z0 + j.
 #[inline(always)]
-pub fn perceive_piece(
+fn perceive_piece(
     l: &Lines,
     z0: usize,
     len: usize,
@@ -222,14 +235,17 @@ pub fn fill_inputs(
         row[n..cols].fill(0.0);
     }
     let channels = shapes.state + shapes.cond;
+    let plane_of = |ch: usize| {
+        if ch < shapes.state {
+            &state[ch * cells..(ch + 1) * cells]
+        } else {
+            fixed.cond_plane(ch - shapes.state)
+        }
+    };
     for piece in pieces(dims, q0, n) {
+        let offsets = neighbour_offsets(dims, x, piece.y);
         for ch in 0..channels {
-            let plane = if ch < shapes.state {
-                &state[ch * cells..(ch + 1) * cells]
-            } else {
-                fixed.cond_plane(ch - shapes.state)
-            };
-            let lines = neighbour_lines(plane, dims, x, piece.y);
+            let lines = lines_at(plane_of(ch), &offsets, nz);
             let rows = &mut inp[FILTERS * ch * stride..FILTERS * (ch + 1) * stride];
             let (r0, rest) = rows.split_at_mut(stride);
             let (r1, rest) = rest.split_at_mut(stride);

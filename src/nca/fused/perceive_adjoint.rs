@@ -19,7 +19,15 @@
 use super::perceive::{Lines, MAX_PIECE, slice_lines, window};
 use crate::nca::config::FILTERS;
 
-/// xy combinations over a piece plus one value at each end (index j is z = clamp(z0 - 1 + j)).
+/// Scratch values per xy line of a group of pieces (24 KB for the six).
+pub const GROUP_FLOATS: usize = 1024;
+const _: () = assert!(MAX_PIECE + 2 <= GROUP_FLOATS, "a piece fits a group");
+
+/// xy combinations of a group of pieces, each piece with one value beyond each end
+/// (piece at offset o: index o + j is z = clamp(z0 - 1 + j)). A whole group goes through
+/// the xy stage before any of it goes through the z stage: reading values back right
+/// after writing them, at the one-float shifts the z stage needs, stalled on store
+/// forwarding (measured: 17% of the adjoint on one load).
 pub struct AdjointScratch {
     /// Sobel x and y parts (both get [1,2,1] along z).
     sxy: Vec<f32>,
@@ -34,7 +42,7 @@ pub struct AdjointScratch {
 
 impl Default for AdjointScratch {
     fn default() -> Self {
-        let line = || vec![0.0f32; MAX_PIECE + 2];
+        let line = || vec![0.0f32; GROUP_FLOATS];
         Self {
             sxy: line(),
             sz: line(),
@@ -105,55 +113,67 @@ fn xy_adjoint(
     }
 }
 
-/// `out[j] = g[j] + (adjoint perception of the five gradient fields)` at z0 + j of line
-/// (x, y); `fields[f]` are the neighbour lines of filter f's gradient, `signs` from
-/// [`border_signs`] for x and y.
+/// The xy stage of the adjoint of one piece z0..z0 + len into the scratch at offset `o`
+/// (`o .. o + len + 2`): `fields[f]` are the neighbour lines of filter f's gradient,
+/// `signs` from [`border_signs`] for x and y.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-pub fn adjoint_piece(
+pub fn adjoint_xy(
     fields: &[Lines; FILTERS],
     signs: [f32; 4],
     z0: usize,
     len: usize,
     nz: usize,
     t: &mut AdjointScratch,
+    o: usize,
+) {
+    xy_adjoint(fields, signs, z0, len, t, o + 1);
+    xy_adjoint(fields, signs, z0.saturating_sub(1), 1, t, o);
+    xy_adjoint(fields, signs, (z0 + len).min(nz - 1), 1, t, o + len + 1);
+    // D^T along z: a clamped end value (the cell itself) enters with the opposite sign.
+    if z0 == 0 {
+        t.sz[o] = -t.sz[o];
+    }
+    if z0 + len == nz {
+        t.sz[o + len + 1] = -t.sz[o + len + 1];
+    }
+}
+
+/// The z stage of the adjoint of a piece whose xy stage is at scratch offset `o`:
+/// `out[j] = g[j] + identity[j] + (the filters' adjoints)` for j < len, `identity` being the
+/// identity filter's gradient on the piece.
+#[inline(always)]
+pub fn adjoint_z(
+    t: &AdjointScratch,
+    o: usize,
+    len: usize,
+    identity: &[f32],
     g: &[f32],
     out: &mut [f32],
 ) {
-    xy_adjoint(fields, signs, z0, len, t, 1);
-    xy_adjoint(fields, signs, z0.saturating_sub(1), 1, t, 0);
-    xy_adjoint(fields, signs, (z0 + len).min(nz - 1), 1, t, len + 1);
-    // D^T along z: a clamped end value (the cell itself) enters with the opposite sign.
-    if z0 == 0 {
-        t.sz[0] = -t.sz[0];
-    }
-    if z0 + len == nz {
-        t.sz[len + 1] = -t.sz[len + 1];
-    }
     let (am, ac, ap) = (
-        window(&t.sxy, 0, len),
-        window(&t.sxy, 1, len),
-        window(&t.sxy, 2, len),
+        window(&t.sxy, o, len),
+        window(&t.sxy, o + 1, len),
+        window(&t.sxy, o + 2, len),
     );
-    let (zm, zp) = (window(&t.sz, 0, len), window(&t.sz, 2, len));
+    let (zm, zp) = (window(&t.sz, o, len), window(&t.sz, o + 2, len));
     let (bm, bc, bp) = (
-        window(&t.lb, 0, len),
-        window(&t.lb, 1, len),
-        window(&t.lb, 2, len),
+        window(&t.lb, o, len),
+        window(&t.lb, o + 1, len),
+        window(&t.lb, o + 2, len),
     );
     let (sm, sc, sp) = (
-        window(&t.ls, 0, len),
-        window(&t.ls, 1, len),
-        window(&t.ls, 2, len),
+        window(&t.ls, o, len),
+        window(&t.ls, o + 1, len),
+        window(&t.ls, o + 2, len),
     );
     let (cm, cc, cp) = (
-        window(&t.lc, 0, len),
-        window(&t.lc, 1, len),
-        window(&t.lc, 2, len),
+        window(&t.lc, o, len),
+        window(&t.lc, o + 1, len),
+        window(&t.lc, o + 2, len),
     );
-    let fc = window(&t.lf, 1, len);
-    let identity = &fields[0][1][1][z0..z0 + len];
-    let (g, out) = (&g[..len], &mut out[..len]);
+    let fc = window(&t.lf, o + 1, len);
+    let (identity, g, out) = (&identity[..len], &g[..len], &mut out[..len]);
     for j in 0..len {
         let sobel = am[j] + 2.0 * ac[j] + ap[j] + zm[j] - zp[j];
         let boxed = bm[j] + bc[j] + bp[j];
@@ -161,6 +181,40 @@ pub fn adjoint_piece(
         let lap = boxed + smooth + fc[j] + cm[j] + cp[j] - 97.0 * cc[j];
         out[j] = g[j] + identity[j] + 0.25 * sobel + 0.125 * lap;
     }
+}
+
+/// A piece of a z-line of an x-plane and its place in the group scratch.
+#[derive(Clone, Copy, Debug)]
+pub struct GroupPiece {
+    pub y: usize,
+    pub z0: usize,
+    pub len: usize,
+    /// Offset in the scratch lines.
+    pub at: usize,
+}
+
+/// The pieces of all z-lines of an x-plane (`ny` lines of `nz` cells), in groups that fit
+/// the scratch.
+pub fn piece_groups(ny: usize, nz: usize) -> Vec<Vec<GroupPiece>> {
+    let mut groups: Vec<Vec<GroupPiece>> = vec![Vec::new()];
+    let mut used = 0;
+    for y in 0..ny {
+        for (z0, len) in piece_starts(nz) {
+            if used + len + 2 > GROUP_FLOATS {
+                groups.push(Vec::new());
+                used = 0;
+            }
+            let group = groups.last_mut().expect("a group");
+            group.push(GroupPiece {
+                y,
+                z0,
+                len,
+                at: used,
+            });
+            used += len + 2;
+        }
+    }
+    groups
 }
 
 /// Start and length of the z-pieces of a line of `nz` cells.

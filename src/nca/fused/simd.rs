@@ -26,6 +26,8 @@ pub trait Simd: Copy {
     fn add(self, a: Self::V, b: Self::V) -> Self::V;
     /// `max(a, 0)`
     fn relu(self, a: Self::V) -> Self::V;
+    /// `b` where `m > 0`, else 0.
+    fn select_positive(self, m: Self::V, b: Self::V) -> Self::V;
 }
 
 /// Plain arrays, no FMA: the baseline of any target (SSE2 on x86-64).
@@ -70,6 +72,13 @@ impl Simd for Portable {
             *x = x.max(0.0);
         }
         a
+    }
+    #[inline(always)]
+    fn select_positive(self, m: Self::V, mut b: Self::V) -> Self::V {
+        for l in 0..LANES {
+            b[l] = if m[l] > 0.0 { b[l] } else { 0.0 };
+        }
+        b
     }
 }
 
@@ -123,6 +132,13 @@ mod x86 {
         #[inline(always)]
         fn relu(self, a: __m512) -> __m512 {
             unsafe { _mm512_max_ps(a, _mm512_setzero_ps()) }
+        }
+        #[inline(always)]
+        fn select_positive(self, m: __m512, b: __m512) -> __m512 {
+            unsafe {
+                let positive = _mm512_cmp_ps_mask::<_CMP_GT_OQ>(m, _mm512_setzero_ps());
+                _mm512_maskz_mov_ps(positive, b)
+            }
         }
     }
 
@@ -182,6 +198,14 @@ mod x86 {
             unsafe {
                 let z = _mm256_setzero_ps();
                 [_mm256_max_ps(a[0], z), _mm256_max_ps(a[1], z)]
+            }
+        }
+        #[inline(always)]
+        fn select_positive(self, m: Self::V, b: Self::V) -> Self::V {
+            unsafe {
+                let z = _mm256_setzero_ps();
+                let keep = |m, b| _mm256_and_ps(_mm256_cmp_ps::<_CMP_GT_OQ>(m, z), b);
+                [keep(m[0], b[0]), keep(m[1], b[1])]
             }
         }
     }
