@@ -25,6 +25,27 @@ pub fn parse_toml<T: DeserializeOwned>(text: &str, origin: &Path) -> Result<T> {
     })
 }
 
+/// Reads, parses and validates a config file: `validate` gets a checker naming `path`.
+pub fn load_checked<T: DeserializeOwned>(
+    path: &Path,
+    validate: impl FnOnce(&T, &Checker) -> Result<()>,
+) -> Result<T> {
+    let cfg: T = load_toml(path)?;
+    validate(&cfg, &Checker::new(path))?;
+    Ok(cfg)
+}
+
+/// Parses and validates TOML text; `origin` names the source in error messages.
+pub fn parse_checked<T: DeserializeOwned>(
+    text: &str,
+    origin: &Path,
+    validate: impl FnOnce(&T, &Checker) -> Result<()>,
+) -> Result<T> {
+    let cfg: T = parse_toml(text, origin)?;
+    validate(&cfg, &Checker::new(origin))?;
+    Ok(cfg)
+}
+
 /// Serialises a config to TOML text.
 pub fn to_toml<T: Serialize>(value: &T) -> Result<String> {
     toml::to_string(value).map_err(|e| XylemError::input("config serialisation", e.to_string()))

@@ -151,6 +151,26 @@ impl Image2 {
         }
     }
 
+    /// The `width` x `height` window with its top-left corner at (row, col); an error if it
+    /// does not lie inside the image.
+    pub fn crop(&self, row: usize, col: usize, width: usize, height: usize) -> Result<Image2> {
+        if row + height > self.height || col + width > self.width {
+            return Err(XylemError::input(
+                "image crop",
+                format!(
+                    "{width}x{height} at row {row}, column {col} does not fit a {}x{} image",
+                    self.width, self.height
+                ),
+            ));
+        }
+        let mut data = Vec::with_capacity(width * height * self.channels);
+        for r in row..row + height {
+            let start = self.offset(r, col);
+            data.extend_from_slice(&self.data[start..start + width * self.channels]);
+        }
+        Image2::from_data(width, height, self.channels, data)
+    }
+
     /// Images placed side by side (left to right) with `gap` pixels of `background` between.
     pub fn hstack(images: &[&Image2], gap: usize, background: f32) -> Image2 {
         let channels = images.iter().map(|i| i.channels).max().unwrap_or(1);

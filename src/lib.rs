@@ -7,7 +7,8 @@
 //! - [`texture`]: the one solid-texture interface every source of wood implements.
 //! - [`volume`]: dense voxel volumes with trilinear lookup (a solid texture too).
 //! - [`field`]: the procedural growth field G(p) (pith axis, rate grid, knots) and the ring
-//!   localisation image I(G).
+//!   localisation image I(G), fitted ring positions and the base colour bar over G.
+//! - [`fit`]: fitting the growth field and base colour to a sample's six faces (`xylem fit`).
 //! - [`slice`]: sampling any solid texture on faces, cuts and planes; the unfolded cross.
 //! - [`image2`]: the float image type slices are returned in.
 //! - [`outputs`]: the standard set of faces, cuts and unfolded cross written for a texture.
@@ -19,6 +20,10 @@
 //! - [`sample`]: sample folders in the Mokume layout (photos, ring images, knot markers).
 //! - [`rng`]: seeded, hash-based randomness (same seed, same output).
 //! - [`device`]: choosing burn's CPU device (flex or ndarray) at run time.
+//! - [`loss`]: the VGG-free style loss (fixed-filter features, sliced Wasserstein, Gram,
+//!   moments, colour) that the NCA trains with.
+//! - [`metrics`]: comparison metrics (ring alignment, grain direction, patch texture distance
+//!   on Lab, lightness and chroma, colour differences) and `xylem compare`'s JSON.
 //! - [`procedural`]: the procedural wood model (rings, pores, rays, fibres, knots, figure,
 //!   burl) and synthetic sample cubes made from species presets.
 //! - [`nca`]: the 3D neural cellular automaton: model, training on the faces, synthesis.
@@ -28,9 +33,12 @@ pub mod device;
 pub mod error;
 pub mod export;
 pub mod field;
+pub mod fit;
 pub mod frame;
 pub mod image2;
 pub mod io;
+pub mod loss;
+pub mod metrics;
 pub mod nca;
 pub mod outputs;
 pub mod presets;

@@ -94,6 +94,7 @@ fn growth_increases_along_every_ray_for_random_rate_grids() {
             },
             growth,
             knots: vec![],
+            base_colour: None,
         };
         cfg.validate(&xylem::config::Checker::new(Path::new("random")))
             .unwrap();
@@ -207,6 +208,7 @@ fn knot_field(death: Option<f32>) -> GrowthField {
         },
         growth: GrowthConfig::uniform(10.0),
         knots: vec![knot],
+        base_colour: None,
     })
 }
 

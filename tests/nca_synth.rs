@@ -4,6 +4,7 @@
 
 use burn::module::Param;
 use burn::tensor::Device;
+use xylem::field::{BaseColour, FieldConfig, WhiteBalance};
 use xylem::frame::Face;
 use xylem::nca::ModelSpec;
 use xylem::nca::conditioning::CondChannel;
@@ -17,14 +18,8 @@ use xylem::presets::load_field_preset;
 use xylem::rng::Rng;
 use xylem::texture::SolidTexture;
 
-fn trained(spec: &ModelSpec, device: &Device) -> TrainedModel {
-    let fit = FitRecord {
-        field: load_field_preset("knot_alive").unwrap(),
-        base_colour: RampColours {
-            light: [0.8, 0.6, 0.4],
-            dark: [0.3, 0.2, 0.1],
-        },
-    };
+/// A model of `spec` with the second layer zero, on the fit `fit`.
+fn trained(spec: &ModelSpec, fit: FitRecord, device: &Device) -> TrainedModel {
     let normalisation = fit.conditioning().normalisation([0.6, 0.45, 0.3]);
     TrainedModel {
         meta: ModelMeta {
@@ -40,6 +35,17 @@ fn trained(spec: &ModelSpec, device: &Device) -> TrainedModel {
     }
 }
 
+/// The stand-in ramp fit: a preset field with a light-to-dark ramp as base colour.
+fn ramp_fit() -> FitRecord {
+    FitRecord {
+        field: load_field_preset("knot_alive").unwrap(),
+        base_colour: Some(RampColours {
+            light: [0.8, 0.6, 0.4],
+            dark: [0.3, 0.2, 0.1],
+        }),
+    }
+}
+
 fn options(engine: Engine) -> SynthOptions {
     SynthOptions {
         size: 10,
@@ -50,8 +56,41 @@ fn options(engine: Engine) -> SynthOptions {
     }
 }
 
+/// A fitted field: a preset with a two-node base colour bar, as `xylem fit` writes it.
+fn fitted(preset: &str) -> FieldConfig {
+    let mut field = load_field_preset(preset).unwrap();
+    let mean = [0.6, 0.45, 0.3];
+    field.base_colour = Some(BaseColour {
+        g_range: [0.0, 20.0],
+        bar: vec![[0.6, 0.5, 0.45], [0.35, 0.3, 0.25]],
+        knot_bar: vec![],
+        knot_blend: 1.0,
+        face_offsets: [[0.0; 3]; 6],
+        white_balance: WhiteBalance {
+            face_means: [mean; 6],
+            mean,
+        },
+    });
+    field
+}
+
 #[test]
 fn identity_model_synthesises_the_base_colour() {
+    for fit in [ramp_fit(), real_fit()] {
+        identity_reproduces_b(fit);
+    }
+}
+
+/// The fit `xylem fit` writes: the base colour lives in the field, no stand-in ramp.
+fn real_fit() -> FitRecord {
+    FitRecord {
+        field: fitted("knot_alive"),
+        base_colour: None,
+    }
+}
+
+/// An untrained model unrolled from a zero seed gives B (in photo colours) at every voxel.
+fn identity_reproduces_b(fit: FitRecord) {
     let device = Device::flex();
     let spec = ModelSpec {
         hidden: 8,
@@ -59,7 +98,7 @@ fn identity_model_synthesises_the_base_colour() {
         conditioning: vec![CondChannel::GreyB, CondChannel::G, CondChannel::RingPhase],
         ..ModelSpec::default()
     };
-    let trained = trained(&spec, &device);
+    let trained = trained(&spec, fit, &device);
     for engine in [Engine::Fused, Engine::Burn] {
         let mut seen = Vec::new();
         let volume = synthesise(&trained, &options(engine), &device, |s| seen.push(s)).unwrap();
@@ -85,7 +124,7 @@ fn fused_and_burn_synthesis_agree() {
         hidden: 16,
         ..ModelSpec::default()
     };
-    let mut trained = trained(&spec, &device);
+    let mut trained = trained(&spec, real_fit(), &device);
     let mut rng = Rng::new(3);
     let w2: Vec<f32> = (0..spec.state_channels * 16)
         .map(|_| 0.2 * rng.normal())

@@ -38,10 +38,10 @@ pub fn train_data(size: usize) -> TrainData {
     });
     let fit = FitRecord {
         field: load_field_preset("distorted").unwrap(),
-        base_colour: RampColours {
+        base_colour: Some(RampColours {
             light: [0.7, 0.55, 0.4],
             dark: [0.4, 0.3, 0.2],
-        },
+        }),
     };
     let conditioning = fit.conditioning();
     let normalisation = conditioning.normalisation([0.6, 0.45, 0.3]);

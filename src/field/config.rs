@@ -19,7 +19,8 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use crate::config::{Checker, load_toml, parse_toml};
+use super::base_colour::BaseColour;
+use crate::config::{Checker, load_checked, parse_checked};
 use crate::error::Result;
 
 /// Largest coordinate accepted anywhere (cube units): 100 units = 4 m.
@@ -33,6 +34,9 @@ pub struct FieldConfig {
     /// Knots (branches), each a strand with its own time field merged into the stem's.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub knots: Vec<KnotConfig>,
+    /// A colour bar over G fitted to face photos (written by `xylem fit`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub base_colour: Option<BaseColour>,
 }
 
 /// The pith axis: the line the tree grew around.
@@ -73,6 +77,26 @@ pub struct GrowthConfig {
     /// farthest point of the cube.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub radius_range: Option<[f32; 2]>,
+    /// Azimuths covered by the grid's azimuth nodes, `[start, end]` in radians around the
+    /// pith (phi = 0 towards +z, see docs/DESIGN.md), end - start <= 2 pi; the ends are
+    /// clamped. Default: the full circle, periodic. `xylem fit` pins the cube's wedge.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub azimuth_range: Option<[f32; 2]>,
+    /// Where the annual rings are, if not at integer values of the stem time (fitted fields).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rings: Option<RingsConfig>,
+}
+
+/// Annual ring positions of a fitted field: G is warped piecewise-linearly so that the ring
+/// at raw stem time `at[i]` lands on year `first_year + i` (see `field::ring_warp`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RingsConfig {
+    /// Raw stem times (years_per_unit x integral of R, before knots) of consecutive rings,
+    /// strictly increasing and > 0.
+    pub at: Vec<f32>,
+    /// The year number the first listed ring gets (>= 1).
+    pub first_year: u32,
 }
 
 /// Smooth random growth-rate variation, generated from a seed.
@@ -180,16 +204,12 @@ fn default_dead_sharpen() -> f32 {
 impl FieldConfig {
     /// Loads and validates a field config file.
     pub fn load(path: &Path) -> Result<Self> {
-        let cfg: FieldConfig = load_toml(path)?;
-        cfg.validate(&Checker::new(path))?;
-        Ok(cfg)
+        load_checked(path, Self::validate)
     }
 
     /// Parses and validates TOML text (`origin` names it in errors).
     pub fn parse(text: &str, origin: &Path) -> Result<Self> {
-        let cfg: FieldConfig = parse_toml(text, origin)?;
-        cfg.validate(&Checker::new(origin))?;
-        Ok(cfg)
+        parse_checked(text, origin, Self::validate)
     }
 
     /// Range checks of every value; keys in messages are relative to `check`'s prefix.
@@ -198,6 +218,9 @@ impl FieldConfig {
         self.growth.validate(&check.nested("growth"))?;
         for (i, knot) in self.knots.iter().enumerate() {
             knot.validate(&check.nested(&format!("knots[{i}]")))?;
+        }
+        if let Some(colour) = &self.base_colour {
+            colour.validate(&check.nested("base_colour"))?;
         }
         Ok(())
     }
@@ -277,7 +300,62 @@ impl GrowthConfig {
                 ));
             }
         }
+        if let Some([lo, hi]) = self.azimuth_range {
+            let turn = std::f32::consts::TAU;
+            if !(lo.is_finite() && hi.is_finite() && hi > lo && hi - lo <= turn + 1e-4)
+                || lo.abs() > 2.0 * turn
+            {
+                return Err(check.error(
+                    "azimuth_range",
+                    format!(
+                        "= [{lo}, {hi}]: expected [start, end] in radians with start < end, \
+                         end - start <= 2 pi and |start| <= 4 pi"
+                    ),
+                ));
+            }
+        }
+        if let Some(rings) = &self.rings {
+            rings.validate(&check.nested("rings"))?;
+        }
         Ok(())
+    }
+}
+
+impl RingsConfig {
+    pub fn validate(&self, check: &Checker) -> Result<()> {
+        if self.at.is_empty() || self.at.len() > 100_000 {
+            return Err(check.error(
+                "at",
+                format!(
+                    "has {} values; expected 1 to 100000 ring positions",
+                    self.at.len()
+                ),
+            ));
+        }
+        if let Some(i) = self.at.iter().position(|a| !(a.is_finite() && *a > 0.0)) {
+            return Err(check.error(
+                "at",
+                format!("[{i}] = {}: expected a finite stem time > 0", self.at[i]),
+            ));
+        }
+        if let Some(i) = self.at.windows(2).position(|w| w[1] <= w[0]) {
+            return Err(check.error(
+                "at",
+                format!(
+                    "[{}] = {} is not above [{i}] = {}: ring positions must increase strictly",
+                    i + 1,
+                    self.at[i + 1],
+                    self.at[i]
+                ),
+            ));
+        }
+        check.count(
+            "first_year",
+            self.first_year as usize,
+            1,
+            1_000_000,
+            "the year of the first listed ring",
+        )
     }
 }
 
@@ -420,6 +498,8 @@ impl GrowthConfig {
             distortion: None,
             height_range: None,
             radius_range: None,
+            azimuth_range: None,
+            rings: None,
         }
     }
 }

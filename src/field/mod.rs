@@ -8,20 +8,28 @@
 //! - [`knot`]: one knot strand, alive or dead.
 //! - [`growth`]: the combined field G and the dominant strand.
 //! - [`arl`]: the ring localisation image I(G).
+//! - [`ring_warp`]: fitted ring positions mapped onto integer years.
+//! - [`base_colour`]: a fitted colour bar over G and its solid texture.
 
 pub mod arl;
+pub mod base_colour;
 pub mod config;
 pub mod distortion;
 pub mod growth;
 pub mod knot;
 pub mod pith;
 pub mod rate_grid;
+pub mod ring_warp;
 pub mod smin;
 
 pub use arl::{RingImage, ring_intensity};
-pub use config::{DistortionConfig, FieldConfig, GrowthConfig, KnotConfig, PithConfig};
-pub use growth::{FieldSample, GrowthField, Strand};
+pub use base_colour::{BaseColour, BaseColourTexture, ColourSpace, WhiteBalance};
+pub use config::{
+    DistortionConfig, FieldConfig, GrowthConfig, KnotConfig, PithConfig, RingsConfig,
+};
+pub use growth::{FieldSample, GrowthField, Strand, knot_union};
 pub use knot::{Knot, KnotSample};
 pub use pith::{Cylindrical, PithAxis};
 pub use rate_grid::RateGrid;
+pub use ring_warp::RingWarp;
 pub use smin::power_smin;

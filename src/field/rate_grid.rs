@@ -2,7 +2,8 @@
 //! dG/dr (relative to `years_per_unit`); G is its integral along r from the pith.
 //!
 //! Interpolation (a decision, see docs/DESIGN.md): cubic B-splines over height (end nodes
-//! repeated) and over azimuth (periodic), and linear in r between radial nodes (so G is
+//! repeated) and over azimuth (periodic, or end nodes repeated when the grid covers only a
+//! pinned azimuth range, as fitted grids do), and linear in r between radial nodes (so G is
 //! piecewise quadratic and C1 in r). The reference code uses smoothstep in height and
 //! Catmull-Rom in azimuth; smoothstep's flat ends turned smooth height variation into visible
 //! ring staircases, and Catmull-Rom can undershoot between nodes, whereas B-spline weights
@@ -47,6 +48,11 @@ pub struct RateGrid {
     pub min_rate: f32,
     pub height_range: [f32; 2],
     pub radius_range: [f32; 2],
+    /// Azimuths (radians, `[start, end]`, end - start <= 2 pi) spanned by the azimuth nodes,
+    /// clamped at both ends like heights; `None`: nodes evenly around the full circle
+    /// (periodic). A fitted cube far from the pith sees only a narrow wedge of azimuths, so
+    /// the fit spreads all n_a nodes over that wedge instead of over 360 degrees.
+    pub azimuth_range: Option<[f32; 2]>,
     /// Integral of the clamped rate from r = 0 to each radial node, per column.
     cumulative: Vec<f32>,
 }
@@ -69,6 +75,7 @@ impl RateGrid {
             min_rate,
             height_range,
             radius_range,
+            azimuth_range: None,
             cumulative: Vec::new(),
         };
         grid.cumulative = grid.integrate_columns();
@@ -89,6 +96,13 @@ impl RateGrid {
             height_range,
             radius_range,
         )
+    }
+
+    /// The same grid with its azimuth nodes spread over `[start, end]` (radians) instead of
+    /// the full circle.
+    pub fn with_azimuth_range(mut self, range: Option<[f32; 2]>) -> Self {
+        self.azimuth_range = range;
+        self
     }
 
     fn radial_step(&self) -> f32 {
@@ -126,10 +140,11 @@ impl RateGrid {
         let ih = xh.floor();
         let wh = bspline_weights(xh - ih);
         let ih = ih as isize;
-        let x = c.phi / TAU * self.n_a as f32;
+        let (x, periodic) = self.azimuth_coordinate(c.phi);
         let j = x.floor();
         let wa = bspline_weights(x - j);
         let j = j as isize;
+        let last_a = self.n_a as isize - 1;
         let mut out = ColumnWeights {
             columns: [0; 16],
             weights: [0.0; 16],
@@ -141,13 +156,35 @@ impl RateGrid {
             }
             let ih = (ih - 1 + mh as isize).clamp(0, last) as usize;
             for (m, w) in wa.iter().enumerate() {
-                let ia = (j - 1 + m as isize).rem_euclid(self.n_a as isize) as usize;
+                let ia = j - 1 + m as isize;
+                let ia = if periodic {
+                    ia.rem_euclid(self.n_a as isize) as usize
+                } else {
+                    ia.clamp(0, last_a) as usize
+                };
                 out.columns[out.len] = ih * self.n_a + ia;
                 out.weights[out.len] = wh * w;
                 out.len += 1;
             }
         }
         out
+    }
+
+    /// The continuous azimuth node coordinate of `phi` and whether the nodes wrap around.
+    /// With an azimuth range, phi is first brought within a turn after the range start; an
+    /// angle outside the range is clamped to the end it is angularly closer to.
+    fn azimuth_coordinate(&self, phi: f32) -> (f32, bool) {
+        let Some([start, end]) = self.azimuth_range else {
+            return (phi / TAU * self.n_a as f32, true);
+        };
+        let mut a = start + (phi - start).rem_euclid(TAU);
+        if a > end {
+            let past_end = a - end;
+            let before_start = start + TAU - a;
+            a = if past_end < before_start { end } else { start };
+        }
+        let last = (self.n_a - 1) as f32;
+        (((a - start) / (end - start) * last).clamp(0.0, last), false)
     }
 
     /// Where r falls among the radial nodes: (cell k, fraction in the cell), or the ends.

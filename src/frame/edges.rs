@@ -95,7 +95,8 @@ fn edge_profile(
         .collect()
 }
 
-fn pearson(x: &[f32], y: &[f32]) -> f32 {
+/// Pearson correlation of two equally long series (0 when either is constant).
+pub fn pearson(x: &[f32], y: &[f32]) -> f32 {
     let n = x.len() as f64;
     let mx = x.iter().map(|&v| v as f64).sum::<f64>() / n;
     let my = y.iter().map(|&v| v as f64).sum::<f64>() / n;

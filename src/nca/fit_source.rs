@@ -1,17 +1,18 @@
-//! Where B and G come from: **the one place the growth-field + base-colour fit (issue 4)
-//! plugs in.** Until it is merged, a stand-in is used: a growth-field config (a preset or any
-//! `configs/fields/*.toml`) with a two-colour ring ramp as base colour,
-//! B(p) = light + (dark - light) I(G(p)), I the ring localisation image of DESIGN section 4.
+//! Where B and G come from: the growth field and base colour of `xylem fit` (issue 4), read
+//! from its `fit.toml` (a field config with a `[base_colour]` section). B is the fitted colour
+//! bar in real (photo) colour for cuts and volumes (`ColourSpace::Real(None)`); the NCA brings
+//! it into its white-balanced space itself (`conditioning::Normalisation`).
 //!
 //! `xylem train --fit PATH` accepts
-//! - a stand-in fit file (`[field]` = a field config, `[base_colour]` = `light`, `dark`);
-//! - a plain field config (the ramp colours then come from the photos: light = 1.1 x, dark =
-//!   0.6 x their mean colour);
-//! - a folder holding `fit.toml` (e.g. an earlier training output).
+//! - a fit folder or its `fit.toml` (the normal case);
+//! - a folder holding `fit.toml` (e.g. an earlier training output);
+//! - for experiments without a fit: a stand-in fit file (`[field]` = a field config,
+//!   `[base_colour]` = `light`, `dark`) or a plain field config without base colour (the ramp
+//!   colours then come from the photos: light = 1.1 x, dark = 0.6 x their mean colour); the
+//!   stand-in base colour is a two-colour ring ramp B(p) = light + (dark - light) I(G(p)).
 //!
 //! The resolved fit is copied into the model folder (`fit.toml`) so synthesis rebuilds the
-//! same B and G without the sample. When the real fit lands, [`load_fit`], [`FitRecord`] and
-//! [`FitRecord::conditioning`] are what changes.
+//! same B and G without the sample.
 
 use std::path::Path;
 use std::sync::Arc;
@@ -22,18 +23,20 @@ use serde::{Deserialize, Serialize};
 use super::conditioning::Conditioning;
 use crate::config::{Checker, load_toml, parse_toml, write_config_copy};
 use crate::error::{Result, XylemError};
-use crate::field::{FieldConfig, GrowthField, ring_intensity};
+use crate::field::{BaseColourTexture, ColourSpace, FieldConfig, GrowthField, ring_intensity};
 use crate::texture::SolidTexture;
 
 /// File name of the fit inside a model folder.
 pub const FIT_FILE: &str = "fit.toml";
 
-/// The stand-in fit: a growth field and a ring colour ramp.
+/// A fit: a growth field with its fitted base colour, or (stand-in) a ring colour ramp.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FitRecord {
     pub field: FieldConfig,
-    pub base_colour: RampColours,
+    /// The stand-in ramp; `None` when `field.base_colour` holds the fitted colour.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub base_colour: Option<RampColours>,
 }
 
 /// Colours of the stand-in base colour, RGB in [0, 1] photo colours.
@@ -61,6 +64,12 @@ impl FitRecord {
             load_toml::<FitRecord>(&file)?
         } else {
             let field = FieldConfig::parse(&text, &file)?;
+            if field.base_colour.is_some() {
+                return Ok(FitRecord {
+                    field,
+                    base_colour: None,
+                });
+            }
             let mean = photo_mean.ok_or_else(|| {
                 XylemError::input(
                     file.display().to_string(),
@@ -69,10 +78,10 @@ impl FitRecord {
             })?;
             FitRecord {
                 field,
-                base_colour: RampColours {
+                base_colour: Some(RampColours {
                     light: mean.map(|m| (1.1 * m).min(1.0)),
                     dark: mean.map(|m| 0.6 * m),
-                },
+                }),
             }
         };
         record.validate(&Checker::new(&file))?;
@@ -81,11 +90,11 @@ impl FitRecord {
 
     pub fn validate(&self, check: &Checker) -> Result<()> {
         self.field.validate(&check.nested("field"))?;
+        let Some(ramp) = &self.base_colour else {
+            return Ok(());
+        };
         let c = check.nested("base_colour");
-        for (key, rgb) in [
-            ("light", self.base_colour.light),
-            ("dark", self.base_colour.dark),
-        ] {
+        for (key, rgb) in [("light", ramp.light), ("dark", ramp.dark)] {
             for v in rgb {
                 c.range(key, v, 0.0, 1.0, "RGB components")?;
             }
@@ -93,21 +102,34 @@ impl FitRecord {
         Ok(())
     }
 
-    /// Writes the fit next to a model.
+    /// Writes the fit next to a model: a fitted field as the plain field config that
+    /// `xylem field --config` also reads, a stand-in with its `[field]` wrapper.
     pub fn save(&self, path: &Path, source: &str) -> Result<()> {
-        write_config_copy(path, self, source)
+        match self.base_colour {
+            None => write_config_copy(path, &self.field, source),
+            Some(_) => write_config_copy(path, self, source),
+        }
     }
 
-    /// B and G as solid textures.
+    /// B and G as solid textures (B in photo colours).
     pub fn conditioning(&self) -> Conditioning {
         let field = Arc::new(GrowthField::from_config(&self.field));
-        Conditioning {
-            growth: field.clone(),
-            colour: Arc::new(RampTexture {
-                field,
-                light: Vec3::from(self.base_colour.light),
-                dark: Vec3::from(self.base_colour.dark),
+        let colour: Arc<dyn SolidTexture> = match (&self.base_colour, &self.field.base_colour) {
+            (Some(ramp), _) => Arc::new(RampTexture {
+                field: field.clone(),
+                light: Vec3::from(ramp.light),
+                dark: Vec3::from(ramp.dark),
             }),
+            (None, Some(fitted)) => Arc::new(BaseColourTexture::new(
+                GrowthField::from_config(&self.field),
+                fitted.clone(),
+                ColourSpace::Real(None),
+            )),
+            (None, None) => unreachable!("load() gives a ramp to fields without base colour"),
+        };
+        Conditioning {
+            growth: field,
+            colour,
         }
     }
 }

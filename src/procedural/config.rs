@@ -84,6 +84,7 @@ impl SpeciesConfig {
             pith: self.pith.clone(),
             growth: self.growth.clone(),
             knots: self.knots.clone(),
+            base_colour: None,
         }
     }
 

@@ -133,6 +133,7 @@ multiversion!(
     ) -> Gradients => backward_plane_body
 );
 
+#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn backward_plane_body<K: Kernels>(
     k: K,

@@ -1,0 +1,120 @@
+//! `xylem fit`: fit a growth field and base colour to a sample folder.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+use xylem::Face;
+use xylem::fit::run::total_steps;
+use xylem::fit::{Display, FitConfig, fit_sample, write_fit};
+use xylem::io::OutputDir;
+use xylem::sample::{Needs, Sample, parse_faces};
+
+/// Fit the growth field (pith, rate grid, knots, ring positions) and the base colour to the
+/// ring images and photos of a sample folder.
+#[derive(Args, Debug)]
+#[command(
+    after_help = "The sample folder holds A_col.png..F_col.png and A_arl-unet.png (or \
+A_arl.png)..F_arl*.png, optionally X_knot.png knot markers (Mokume layout).
+
+Examples:
+  xylem fit --sample ../shared/data/mokume/CN03 --out out/fit/CN03
+  xylem fit --sample ../shared/data/mokume/H11 --out out/fit/H11-noE --faces A,B,C,D,F
+
+Writes OUT/fit.toml (the fitted field: `xylem field --config OUT/fit.toml` renders it),
+OUT/faces/X_arl.png and X_base.png for all six faces, OUT/cuts/cut1_arl.png, cut2_arl.png,
+cut1_base.png, cut2_base.png, OUT/sheet.png (per face: photo | target rings | fitted rings |
+both overlaid, target green and fit magenta | base colour; held-out faces framed red),
+OUT/loss.csv and OUT/config.toml (the fit config used)."
+)]
+pub struct FitArgs {
+    /// Sample folder (Mokume layout).
+    #[arg(long, value_name = "DIR")]
+    pub sample: PathBuf,
+    /// Output folder (created; must be new, empty, or an earlier xylem output).
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+    /// Fit on these faces only, e.g. A,B,C,D,E (leave-one-face-out); default all six.
+    #[arg(long, value_name = "LIST")]
+    pub faces: Option<String>,
+    /// Fit config (TOML, see configs/fit/default.toml); default: the built-in defaults.
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+}
+
+pub fn run(args: FitArgs) -> Result<()> {
+    let cfg = match &args.config {
+        Some(path) => FitConfig::load(path)?,
+        None => FitConfig::default(),
+    };
+    let faces = match &args.faces {
+        Some(list) => parse_faces(list)?,
+        None => Face::ALL.to_vec(),
+    };
+    let needs = Needs {
+        photos: true,
+        arl: true,
+    };
+    let sample = Sample::load(&args.sample, &faces, needs)?;
+    let out = OutputDir::prepare(&args.out)?;
+
+    let bar = ProgressBar::new(total_steps(&cfg) as u64).with_style(
+        ProgressStyle::with_template("{msg:>14} [{bar:30}] {percent:>3}% {elapsed}")?
+            .progress_chars("=> "),
+    );
+    let mut done_before = 0usize;
+    let mut current = String::new();
+    let mut report = |stage: &str, step: usize, _of: usize| {
+        if stage != current {
+            done_before = bar.position() as usize;
+            current = stage.to_string();
+            bar.set_message(current.clone());
+        }
+        bar.set_position((done_before + step) as u64);
+    };
+    let result = fit_sample(&sample, &cfg, &mut report)
+        .with_context(|| format!("fitting {}", args.sample.display()))?;
+    bar.finish_with_message("done");
+
+    let display = display_images(&args.sample);
+    write_fit(
+        &out,
+        &result,
+        &cfg,
+        &sample.faces,
+        &display,
+        sample.size,
+        &args.sample.display().to_string(),
+    )?;
+    println!(
+        "iso-contour error: {:.3} mm after step 1 (pith), {:.3} mm after step 2; {} contours; \
+         {:.1} s",
+        result.iso_mm_step1,
+        result.iso_mm_step2,
+        result.contours,
+        result.seconds.iter().sum::<f64>()
+    );
+    println!("wrote {}/fit.toml and sheet.png", args.out.display());
+    Ok(())
+}
+
+/// Photos and ring images of all six faces for the sheet, as far as the folder has them
+/// (faces left out of the fit are shown, never fitted).
+fn display_images(dir: &std::path::Path) -> Display {
+    let mut display = Display {
+        photos: Default::default(),
+        targets: Default::default(),
+    };
+    for face in Face::ALL {
+        let needs = Needs {
+            photos: true,
+            arl: true,
+        };
+        if let Ok(s) = Sample::load(dir, &[face], needs) {
+            display.photos[face.index()] = s.photos[face.index()].clone();
+            display.targets[face.index()] = s.arl[face.index()].clone();
+        }
+    }
+    display
+}

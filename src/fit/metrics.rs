@@ -1,0 +1,86 @@
+//! Accuracy measures of a fit: pith axis errors against a known truth, the iso-contour error
+//! as a distance, and the agreement of ring images.
+
+use glam::Vec3;
+
+use super::contours::ContourSet;
+use super::iso_loss::contour_medians;
+use crate::field::PithAxis;
+use crate::frame::CM_PER_UNIT;
+use crate::frame::edges::pearson;
+use crate::image2::Image2;
+use crate::texture::SolidTexture;
+
+/// Errors of a fitted pith axis against the true one: the distance (cm) between the two axes'
+/// points closest to the cube centre, and the angle (degrees) between the two lines.
+pub fn axis_errors(fit: &PithAxis, truth: &PithAxis) -> (f32, f32) {
+    let centre_point = |a: &PithAxis| a.origin + (Vec3::ZERO - a.origin).dot(a.dir) * a.dir;
+    let distance = centre_point(fit).distance(centre_point(truth)) * CM_PER_UNIT;
+    let angle = fit.dir.dot(truth.dir).abs().min(1.0).acos().to_degrees();
+    (distance, angle)
+}
+
+/// Mean distance (mm) from contour points to the iso-surface of G through their contour's
+/// median: |G(p) - m_C| / |grad G(p)| (first order), with the gradient from central
+/// differences. Unlike the loss (in years), this does not change when G is rescaled.
+pub fn iso_error_mm(field: &dyn SolidTexture, set: &ContourSet) -> f32 {
+    let g: Vec<f32> = set.points.iter().map(|&p| first(field, p)).collect();
+    let medians = contour_medians(set, &g);
+    let h = 1e-3;
+    let mut sum = 0.0f64;
+    for (&(a, b), &m) in set.ranges.iter().zip(&medians) {
+        for (&p, &gp) in set.points[a..b].iter().zip(&g[a..b]) {
+            let grad = Vec3::new(
+                first(field, p + Vec3::X * h) - first(field, p - Vec3::X * h),
+                first(field, p + Vec3::Y * h) - first(field, p - Vec3::Y * h),
+                first(field, p + Vec3::Z * h) - first(field, p - Vec3::Z * h),
+            ) / (2.0 * h);
+            sum += ((gp - m).abs() / grad.length().max(1e-6)) as f64;
+        }
+    }
+    let mm_per_unit = CM_PER_UNIT * 10.0;
+    (sum / set.points.len().max(1) as f64) as f32 * mm_per_unit
+}
+
+fn first(field: &dyn SolidTexture, p: Vec3) -> f32 {
+    crate::texture::first_channel(field, p)
+}
+
+/// Pearson correlation of two grey images of the same size, leaving out `border` pixels at
+/// each edge.
+pub fn image_correlation(a: &Image2, b: &Image2, border: usize) -> f32 {
+    let n = a.width;
+    let inner = border..n.saturating_sub(border);
+    let (mut xs, mut ys) = (Vec::new(), Vec::new());
+    for r in inner.clone() {
+        for c in inner.clone() {
+            xs.push(a.get(r, c, 0));
+            ys.push(b.get(r, c, 0));
+        }
+    }
+    pearson(&xs, &ys)
+}
+
+/// The best [`image_correlation`] over shifts of `b` by up to `shift` pixels in rows and
+/// columns (the overlap only, leaving out `border` pixels), which forgives a ring placed a
+/// pixel or two off, as DESIGN section 8's ring alignment does.
+pub fn shifted_correlation(a: &Image2, b: &Image2, border: usize, shift: usize) -> f32 {
+    let n = a.width as isize;
+    let s = shift as isize;
+    let lo = border as isize + s;
+    let hi = n - border as isize - s;
+    let mut best = f32::NEG_INFINITY;
+    for dr in -s..=s {
+        for dc in -s..=s {
+            let (mut xs, mut ys) = (Vec::new(), Vec::new());
+            for r in lo..hi {
+                for c in lo..hi {
+                    xs.push(a.get(r as usize, c as usize, 0));
+                    ys.push(b.get((r + dr) as usize, (c + dc) as usize, 0));
+                }
+            }
+            best = best.max(pearson(&xs, &ys));
+        }
+    }
+    best
+}

@@ -1,0 +1,212 @@
+//! The style-loss config (`configs/loss/default.toml`): pyramid, filter bank, sliced
+//! Wasserstein projections and the weight of each term. Plain serde structs; unknown keys are
+//! errors and every value is range-checked with a message naming the key.
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use crate::config::{Checker, load_toml, parse_toml};
+use crate::error::Result;
+
+/// The built-in default (the text of `configs/loss/default.toml`).
+pub const DEFAULT_LOSS: &str = include_str!("../../configs/loss/default.toml");
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LossConfig {
+    /// Seed of the random filters and projections (fixed per loss instance).
+    pub seed: u64,
+    /// Pyramid levels: level 0 is the image, each next one a 2x2 average of the previous.
+    pub octaves: usize,
+    /// A level whose valid feature map has fewer pixels than this is skipped (a small patch
+    /// has no coarse levels; its statistics would rest on a handful of pixels).
+    pub min_layer_pixels: usize,
+    pub filters: FilterConfig,
+    pub swd: SwdConfig,
+    pub weights: LossWeights,
+}
+
+/// The fixed filter bank applied at every pyramid level.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FilterConfig {
+    /// Square kernel sides (odd). Each size gets `random` random filters and the oriented
+    /// filters; all responses of a level are cropped to the largest kernel's valid region and
+    /// form one feature layer.
+    pub kernel_sizes: Vec<usize>,
+    /// Random filters per kernel size (zero-mean, unit norm, over RGB).
+    pub random: usize,
+    /// Orientations of the oriented (Gaussian-derivative) filters per kernel size; each
+    /// orientation gives a first and a second derivative on luminance. 0: none.
+    pub orientations: usize,
+    /// Nonlinearity after the filters.
+    pub nonlinearity: Nonlinearity,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Nonlinearity {
+    /// max(0, x): half-wave rectified responses.
+    Relu,
+    /// |x|: energy-like responses, blind to sign.
+    Abs,
+    /// The linear responses (patch projections).
+    None,
+}
+
+/// Sliced Wasserstein on the feature layers.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SwdConfig {
+    /// Random projection directions per layer.
+    pub projections: usize,
+    /// Draw new projections on every call (from the seed and the caller's call counter)
+    /// instead of keeping one fixed set. Needs the target features kept in memory.
+    pub redraw: bool,
+    /// With `redraw`, at most this many target pixels per layer are projected and sorted
+    /// per call (a random subset seeded by the call); their quantiles stand for the face.
+    pub max_target_pixels: usize,
+}
+
+/// Weight of each term (0 switches a term off; its statistics are then not computed).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LossWeights {
+    /// Gram matrices (uncentred second moments) of each feature layer.
+    pub gram: f32,
+    /// Feature means of each layer.
+    pub mean: f32,
+    /// Feature covariances of each layer.
+    pub covariance: f32,
+    /// Sliced Wasserstein distance of each layer.
+    pub swd: f32,
+    /// Pixel colour: mean, covariance and per-channel histogram of RGB.
+    pub colour: f32,
+}
+
+impl LossConfig {
+    /// Loads and validates a loss config file.
+    pub fn load(path: &Path) -> Result<Self> {
+        let cfg: LossConfig = load_toml(path)?;
+        cfg.validate(&Checker::new(path))?;
+        Ok(cfg)
+    }
+
+    /// The built-in default (same as `configs/loss/default.toml`).
+    pub fn default_config() -> Self {
+        let origin = Path::new("<built-in configs/loss/default.toml>");
+        let cfg: LossConfig =
+            parse_toml(DEFAULT_LOSS, origin).expect("built-in loss config parses");
+        cfg.validate(&Checker::new(origin))
+            .expect("built-in loss config is valid");
+        cfg
+    }
+
+    pub fn validate(&self, check: &Checker) -> Result<()> {
+        check.count("octaves", self.octaves, 1, 8, "pyramid levels")?;
+        check.count(
+            "min_layer_pixels",
+            self.min_layer_pixels,
+            1,
+            1 << 20,
+            "pixels a layer needs to be used",
+        )?;
+        self.filters.validate(&check.nested("filters"))?;
+        self.swd.validate(&check.nested("swd"))?;
+        self.weights.validate(&check.nested("weights"))
+    }
+
+    /// Channels of one feature layer.
+    pub fn features_per_layer(&self) -> usize {
+        self.filters.kernel_sizes.len() * (self.filters.random + 2 * self.filters.orientations)
+    }
+}
+
+impl FilterConfig {
+    fn validate(&self, check: &Checker) -> Result<()> {
+        if self.kernel_sizes.is_empty() || self.kernel_sizes.len() > 4 {
+            return Err(check.error(
+                "kernel_sizes",
+                format!(
+                    "has {} entries: expected 1 to 4 odd kernel sides, e.g. [5]",
+                    self.kernel_sizes.len()
+                ),
+            ));
+        }
+        for &k in &self.kernel_sizes {
+            if k % 2 == 0 || !(1..=15).contains(&k) {
+                return Err(check.error(
+                    "kernel_sizes",
+                    format!("contains {k}: expected odd kernel sides in [1, 15]"),
+                ));
+            }
+        }
+        check.count(
+            "random",
+            self.random,
+            0,
+            256,
+            "random filters per kernel size",
+        )?;
+        check.count(
+            "orientations",
+            self.orientations,
+            0,
+            16,
+            "filter orientations",
+        )?;
+        if self.orientations > 0 && self.kernel_sizes.contains(&1) {
+            return Err(check.error(
+                "kernel_sizes",
+                "contains 1 while `orientations` > 0: oriented filters need kernels of 3 or more",
+            ));
+        }
+        if self.random + self.orientations == 0 {
+            return Err(check.error("random", "= 0 and `orientations` = 0: the bank is empty"));
+        }
+        Ok(())
+    }
+}
+
+impl SwdConfig {
+    fn validate(&self, check: &Checker) -> Result<()> {
+        check.count(
+            "projections",
+            self.projections,
+            1,
+            512,
+            "projections per layer",
+        )?;
+        check.count(
+            "max_target_pixels",
+            self.max_target_pixels,
+            16,
+            1 << 22,
+            "target pixels kept per layer",
+        )
+    }
+}
+
+impl LossWeights {
+    fn validate(&self, check: &Checker) -> Result<()> {
+        for (key, w) in self.named() {
+            check.range(key, w, 0.0, 1e6, "a term weight")?;
+        }
+        if self.named().iter().all(|(_, w)| *w == 0.0) {
+            return Err(check.error("swd", "all weights are 0: the loss would be empty"));
+        }
+        Ok(())
+    }
+
+    /// The weights with their config keys.
+    pub fn named(&self) -> [(&'static str, f32); 5] {
+        [
+            ("gram", self.gram),
+            ("mean", self.mean),
+            ("covariance", self.covariance),
+            ("swd", self.swd),
+            ("colour", self.colour),
+        ]
+    }
+}

@@ -1,0 +1,96 @@
+//! The fixed filter bank: random zero-mean RGB filters and oriented Gaussian-derivative
+//! filters on luminance, per kernel size. Nothing here is trained; the bank is a function of
+//! the config and its seed only.
+//!
+//! Why both: random filters respond to colour edges and arbitrary small patterns (pores,
+//! speckle) with no built-in preference; oriented first and second derivatives respond to
+//! the elongated structure wood is made of (ring edges, fibre streaks, ray flecks) at known
+//! angles. Filters are zero-mean so a flat patch gives no response: the flat colour is the
+//! colour term's business, and the features then describe structure only.
+
+use burn::tensor::{Device, Tensor, TensorData};
+
+use super::config::FilterConfig;
+use crate::rng::Rng;
+
+/// Rec. 709 luminance weights: oriented filters act on luminance.
+const LUMA: [f32; 3] = [0.2126, 0.7152, 0.0722];
+
+/// One kernel size's filters.
+#[derive(Clone, Debug)]
+pub struct FilterBank {
+    /// Kernel side (odd).
+    pub size: usize,
+    /// `[F, 3, k, k]`, each filter of unit L2 norm.
+    pub weights: Tensor<4>,
+}
+
+/// Builds the banks of `cfg` on `device`, one per kernel size, seeded by `seed`.
+pub fn filter_banks(cfg: &FilterConfig, seed: u64, device: &Device) -> Vec<FilterBank> {
+    cfg.kernel_sizes
+        .iter()
+        .enumerate()
+        .map(|(i, &k)| {
+            let mut rng = Rng::substream(seed, 0x4649_4c54 + i as u64);
+            let mut data = Vec::new();
+            for _ in 0..cfg.random {
+                data.extend(random_filter(&mut rng, k));
+            }
+            for o in 0..cfg.orientations {
+                let angle = std::f32::consts::PI * o as f32 / cfg.orientations as f32;
+                data.extend(oriented_filter(k, angle, 1));
+                data.extend(oriented_filter(k, angle, 2));
+            }
+            let count = cfg.random + 2 * cfg.orientations;
+            FilterBank {
+                size: k,
+                weights: Tensor::from_data(TensorData::new(data, [count, 3, k, k]), device),
+            }
+        })
+        .collect()
+}
+
+/// A random filter `[3, k, k]`: normal entries, each channel made zero-mean, unit norm.
+fn random_filter(rng: &mut Rng, k: usize) -> Vec<f32> {
+    let mut w: Vec<f32> = (0..3 * k * k).map(|_| rng.normal()).collect();
+    if k > 1 {
+        for channel in w.chunks_exact_mut(k * k) {
+            let mean = channel.iter().sum::<f32>() / (k * k) as f32;
+            channel.iter_mut().for_each(|v| *v -= mean);
+        }
+    }
+    normalise(&mut w);
+    w
+}
+
+/// The `order`-th (1 or 2) derivative of a Gaussian across direction `angle` (radians, from
+/// the image's x axis), on luminance: `[3, k, k]`, zero-mean, unit norm. Sigma is a quarter
+/// of the kernel side so the kernel holds +-2 sigma.
+fn oriented_filter(k: usize, angle: f32, order: u32) -> Vec<f32> {
+    let r = (k as f32 - 1.0) / 2.0;
+    let sigma = (k as f32 / 4.0).max(0.5);
+    let (s, c) = angle.sin_cos();
+    let mut base = vec![0.0f32; k * k];
+    for (i, v) in base.iter_mut().enumerate() {
+        let (y, x) = ((i / k) as f32 - r, (i % k) as f32 - r);
+        let n = (x * c + y * s) / sigma;
+        let g = (-(x * x + y * y) / (2.0 * sigma * sigma)).exp();
+        *v = match order {
+            1 => -n * g,
+            _ => (n * n - 1.0) * g,
+        };
+    }
+    let mean = base.iter().sum::<f32>() / base.len() as f32;
+    base.iter_mut().for_each(|v| *v -= mean);
+    let mut w: Vec<f32> = LUMA
+        .iter()
+        .flat_map(|l| base.iter().map(move |v| v * l))
+        .collect();
+    normalise(&mut w);
+    w
+}
+
+fn normalise(w: &mut [f32]) {
+    let norm = w.iter().map(|v| v * v).sum::<f32>().sqrt().max(1e-12);
+    w.iter_mut().for_each(|v| *v /= norm);
+}

@@ -1,0 +1,55 @@
+//! Images into loss inputs and back: `Image2` (`[H, W, C]`, interleaved) <-> burn tensors
+//! `[3, H, W]` (planar), and the white balance the NCA targets use.
+
+use burn::tensor::{Device, Tensor, TensorData};
+
+use crate::error::{Result, XylemError};
+use crate::image2::Image2;
+
+/// An image as an RGB tensor `[3, H, W]` on `device` (grey is repeated, extra channels are
+/// dropped).
+pub fn image_to_tensor(img: &Image2, device: &Device) -> Tensor<3> {
+    let (h, w) = (img.height, img.width);
+    let rgb = img.with_channels(3);
+    let mut planar = vec![0.0f32; 3 * h * w];
+    for (p, px) in rgb.data.chunks_exact(3).enumerate() {
+        for (c, &v) in px.iter().enumerate() {
+            planar[c * h * w + p] = v;
+        }
+    }
+    Tensor::from_data(TensorData::new(planar, [3, h, w]), device)
+}
+
+/// An RGB tensor `[3, H, W]` as an image (values as they are, not clamped).
+pub fn tensor_to_image(t: Tensor<3>) -> Result<Image2> {
+    let [c, h, w] = t.dims();
+    let planar = tensor_values(t)?;
+    let mut data = vec![0.0f32; c * h * w];
+    for (p, px) in data.chunks_exact_mut(c).enumerate() {
+        for (ch, v) in px.iter_mut().enumerate() {
+            *v = planar[ch * h * w + p];
+        }
+    }
+    Image2::from_data(w, h, c, data)
+}
+
+/// The values of a tensor, row-major.
+pub fn tensor_values<const D: usize>(t: Tensor<D>) -> Result<Vec<f32>> {
+    t.into_data()
+        .convert::<f32>()
+        .try_into_vec::<f32>()
+        .map_err(|e| XylemError::numeric("tensor readback", format!("{e:?}")))
+}
+
+/// The NCA's target normalisation (shared DESIGN section 6): each channel divided by twice
+/// its mean, so the image averages 0.5 grey whatever the photo's colour and exposure.
+pub fn white_balance(img: &Image2) -> Image2 {
+    let means = img.channel_means();
+    let mut out = img.clone();
+    for px in out.data.chunks_exact_mut(img.channels) {
+        for (v, m) in px.iter_mut().zip(&means) {
+            *v /= 2.0 * m.max(1e-6);
+        }
+    }
+    out
+}

@@ -1,0 +1,22 @@
+//! Comparison metrics (plain Rust on [`Image2`], no autodiff): every comparison in the project
+//! (faces, held-out faces, cuts; NCA, procedural and baselines alike) reports the same numbers.
+//!
+//! - [`ring`]: ring alignment `ring_ncc` (band-passed luminance, best over small shifts);
+//! - [`orientation`]: grain-direction agreement `orient` (structure tensor);
+//! - [`patch_swd`]: patch texture distance `swd`, and `swd_L` / `swd_chroma` on lightness and
+//!   chroma alone (sliced Wasserstein of Lab patches at two scales);
+//! - [`lab`]: Lab colour mean and spread differences `dE_mean`, `dE_std`;
+//! - [`report`]: all of them plus the style loss (`style`) in one [`Metrics`] struct, JSON and
+//!   CSV;
+//! - [`sheet`]: the side-by-side picture with the difference.
+
+pub mod filter;
+pub mod lab;
+pub mod orientation;
+pub mod patch_swd;
+pub mod report;
+pub mod ring;
+pub mod sheet;
+
+pub use report::{Comparer, METRIC_NAMES, Metrics, compare};
+pub use sheet::difference_sheet;
