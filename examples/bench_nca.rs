@@ -11,26 +11,24 @@
 //! `unroll` runs STEPS steps of a SIZE^3 volume without gradients (weights random like a
 //! trained model's, 2 conditioning channels) after one warm-up step and prints cell-updates
 //! per second. `train` runs ITERS (default 3) training iterations of `nca::train::Trainer`
-//! (unroll, stand-in face loss + overflow, backward, gradient normalisation, Adam) after one
+//! on the burn engine (`examples/bench_fused.rs` measures the fused one) (unroll, stand-in face loss + overflow, backward, gradient normalisation, Adam) after one
 //! warm-up iteration and prints the mean seconds per iteration. Peak memory: run under
 //! `/usr/bin/time -v` (one configuration per process). Denormals are flushed to zero as in
 //! the CLI (`nca::denormals`); set `XYLEM_KEEP_DENORMALS=1` to measure without.
 
-use std::time::Instant;
+#[path = "common/nca_bench.rs"]
+mod nca_bench;
 
 use burn::module::Param;
-use xylem::Image2;
+use nca_bench::{time_iterations, timed, train_config, train_data};
 use xylem::device::DeviceKind;
-use xylem::frame::Face;
-use xylem::nca::fit_source::{FitRecord, RampColours};
+use xylem::nca::MomentLoss;
 use xylem::nca::model::{Nca, StepInputs};
 use xylem::nca::perception::PerceptionImpl;
 use xylem::nca::region::Region;
 use xylem::nca::tensors::{tensor_from, to_vec};
-use xylem::nca::train::{TrainData, Trainer};
+use xylem::nca::train::Trainer;
 use xylem::nca::unroll::{seed_state, unroll};
-use xylem::nca::{MomentLoss, TrainConfig};
-use xylem::presets::load_field_preset;
 use xylem::rng::Rng;
 
 fn arg<T: std::str::FromStr>(args: &[String], i: usize, default: T) -> T {
@@ -73,7 +71,7 @@ fn main() {
 
 fn bench_unroll(size: usize, steps: usize, kind: DeviceKind, imp: PerceptionImpl) {
     let device = kind.device();
-    let config = quick_config(size, size, steps, imp, 0);
+    let config = train_config(size, size, steps, 0, "burn", perception_name(imp));
     let spec = &config.model;
     let mut model = Nca::init(spec, 1, &device);
     let mut rng = Rng::new(2);
@@ -90,36 +88,18 @@ fn bench_unroll(size: usize, steps: usize, kind: DeviceKind, imp: PerceptionImpl
     let slab = config.memory.slab_voxels;
     let warm = unroll(&model, seed.clone(), &inputs, 1, slab, |_| {});
     let _ = to_vec(warm).unwrap();
-    let t = Instant::now();
-    let state = unroll(&model, seed, &inputs, steps, slab, |_| {});
-    let values = to_vec(state).unwrap();
-    let dt = t.elapsed().as_secs_f64();
+    let (values, t) = timed(|| to_vec(unroll(&model, seed, &inputs, steps, slab, |_| {})).unwrap());
     assert!(values.iter().all(|v| v.is_finite()));
+    let updates = (size * size * size * steps) as f64;
     println!(
-        "burn unroll size={size} steps={steps} device={} perception={imp:?} threads={} seconds={dt:.3} cell_updates_per_s={:.4e}",
+        "burn unroll size={size} steps={steps} device={} perception={imp:?} threads={} cpu_seconds={:.3} seconds={:.3} cell_updates_per_cpu_s={:.4e} cell_updates_per_s={:.4e}",
         kind.name(),
         rayon::current_num_threads(),
-        (size * size * size * steps) as f64 / dt
+        t.cpu,
+        t.wall,
+        updates / t.cpu,
+        updates / t.wall
     );
-}
-
-fn quick_config(
-    size: usize,
-    crop: usize,
-    steps: usize,
-    imp: PerceptionImpl,
-    segment: usize,
-) -> TrainConfig {
-    let text = format!(
-        "seed = 1\n[model]\nperception = \"{}\"\n[volume]\nsize = {size}\ncrop = {crop}\n\
-         [schedule]\niterations = 1000\nsteps = [{steps}, {steps}]\n[pool]\nsize = 0\n\
-         [memory]\nsegment_steps = {segment}\n",
-        match imp {
-            PerceptionImpl::Shifted => "shifted",
-            PerceptionImpl::Conv => "conv",
-        }
-    );
-    TrainConfig::parse(&text, std::path::Path::new("<bench>")).expect("bench config")
 }
 
 fn bench_train(
@@ -131,40 +111,23 @@ fn bench_train(
     segment: usize,
     crop: usize,
 ) {
-    let config = quick_config(size, crop, steps, imp, segment);
-    let mut rng = Rng::new(5);
-    let targets: [Option<Image2>; 6] = std::array::from_fn(|_| {
-        let data = (0..size * size * 3).map(|_| rng.uniform()).collect();
-        Some(Image2::from_data(size, size, 3, data).unwrap())
-    });
-    let fit = FitRecord {
-        field: load_field_preset("distorted").unwrap(),
-        base_colour: Some(RampColours {
-            light: [0.7, 0.55, 0.4],
-            dark: [0.4, 0.3, 0.2],
-        }),
-    };
-    let conditioning = fit.conditioning();
-    let normalisation = conditioning.normalisation([0.6, 0.45, 0.3]);
-    let data = TrainData {
-        faces: Face::ALL.to_vec(),
-        targets,
-        fit,
-        conditioning,
-        normalisation,
-    };
+    let config = train_config(size, crop, steps, segment, "burn", perception_name(imp));
+    let data = train_data(size);
     let loss = MomentLoss::new(&data.targets, &kind.device());
-    let mut trainer = Trainer::new(&config, &data, kind);
-    trainer.iterate(&loss); // warm-up
-    let t = Instant::now();
-    let mut last = 0.0;
-    for _ in 0..iters {
-        last = trainer.iterate(&loss).loss;
-    }
-    let dt = t.elapsed().as_secs_f64() / iters as f64;
+    let mut trainer = Trainer::new(&config, &data, kind).unwrap();
+    let (t, last) = time_iterations(&mut trainer, &loss, iters);
     println!(
-        "burn train size={size} crop={crop} steps={steps} segment={segment} device={} perception={imp:?} threads={} seconds_per_iter={dt:.3} loss={last:.4}",
+        "burn train size={size} crop={crop} steps={steps} segment={segment} device={} perception={imp:?} threads={} cpu_seconds_per_iter={:.3} seconds_per_iter={:.3} loss={last:.4}",
         kind.name(),
         rayon::current_num_threads(),
+        t.cpu,
+        t.wall,
     );
+}
+
+fn perception_name(imp: PerceptionImpl) -> &'static str {
+    match imp {
+        PerceptionImpl::Shifted => "shifted",
+        PerceptionImpl::Conv => "conv",
+    }
 }

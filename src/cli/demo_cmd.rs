@@ -9,6 +9,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 use xylem::device::DeviceKind;
 use xylem::io::OutputDir;
+use xylem::nca::config::Engine;
 use xylem::presets::load_species_preset;
 use xylem::procedural::write_sample;
 
@@ -40,9 +41,13 @@ pub struct DemoArgs {
     /// NCA unroll steps of the synthesis.
     #[arg(long, default_value_t = 24)]
     pub synth_steps: usize,
-    /// CPU backend of the NCA.
+    /// CPU backend of the NCA's burn parts (optimiser, loss; the whole NCA with --engine burn).
     #[arg(long, default_value = "flex")]
     pub device: DeviceKind,
+    /// Synthesis unroll: the fused CPU kernels (default) or burn (the reference). Training
+    /// uses the engine of the NCA config (`[compute] engine`, fused by default).
+    #[arg(long, default_value = "fused")]
+    pub engine: Engine,
 }
 
 pub fn run(args: DemoArgs) -> Result<()> {
@@ -70,5 +75,6 @@ pub fn run(args: DemoArgs) -> Result<()> {
         synth_steps: args.synth_steps,
         image_size: 160,
         device: args.device,
+        engine: args.engine,
     })
 }

@@ -11,6 +11,7 @@ use xylem::device::DeviceKind;
 use xylem::field::{BaseColourTexture, ColourSpace, FieldConfig, GrowthField, RingImage};
 use xylem::frame::Face;
 use xylem::io::{OutputDir, load_rgb, save_png, write_bytes_atomic};
+use xylem::nca::config::Engine;
 use xylem::outputs::{CROSS_BACKGROUND, SliceSet};
 use xylem::procedural::{ProceduralWood, SpeciesConfig};
 use xylem::render::lathe::{SHIPPED_SEGMENTS, turned_bowl};
@@ -63,9 +64,13 @@ pub struct RunArgs {
     /// Tile size of the sheet and side of the renders, in pixels.
     #[arg(long, default_value_t = 160)]
     pub image_size: usize,
-    /// CPU backend of the NCA.
+    /// CPU backend of the NCA's burn parts (optimiser, loss; the whole NCA with --engine burn).
     #[arg(long, default_value = "flex")]
     pub device: DeviceKind,
+    /// Synthesis unroll: the fused CPU kernels (default) or burn (the reference). Training
+    /// uses the engine of the NCA config (`[compute] engine`, fused by default).
+    #[arg(long, default_value = "fused")]
+    pub engine: Engine,
 }
 
 pub fn run(args: RunArgs) -> Result<()> {
@@ -163,6 +168,7 @@ fn synth_step(args: &RunArgs, out: &OutputDir) -> Result<()> {
         seed: None,
         out: out.path("synth"),
         device: args.device,
+        engine: args.engine,
     })
 }
 

@@ -9,6 +9,7 @@ use xylem::config::write_config_copy;
 use xylem::device::DeviceKind;
 use xylem::io::OutputDir;
 use xylem::io::npy::write_volume;
+use xylem::nca::config::Engine;
 use xylem::nca::model_dir::TrainedModel;
 use xylem::nca::synth::{SynthOptions, synthesise};
 use xylem::outputs::SliceSet;
@@ -38,9 +39,12 @@ pub struct SynthArgs {
     /// Output folder.
     #[arg(long)]
     pub out: PathBuf,
-    /// CPU backend.
+    /// CPU backend of the burn engine (and for loading the weights).
     #[arg(long, default_value = "flex")]
     pub device: DeviceKind,
+    /// Unroll with the fused CPU kernels (default) or with burn (the reference, slower).
+    #[arg(long, default_value = "fused")]
+    pub engine: Engine,
 }
 
 pub fn run(args: SynthArgs) -> Result<()> {
@@ -54,6 +58,7 @@ pub fn run(args: SynthArgs) -> Result<()> {
         steps: args.steps,
         seed: args.seed.unwrap_or(trained.meta.seed),
         slab_voxels: 1 << 18,
+        engine: args.engine,
     };
     let bar = ProgressBar::new(args.steps as u64).with_style(
         ProgressStyle::with_template("unroll {bar:30} {pos}/{len} steps {per_sec} ETA {eta}")?

@@ -132,6 +132,12 @@ fn sample_region(texture: &dyn SolidTexture, region: &Region) -> Volume {
 impl Normalisation {
     /// White-balanced B, `[3, X, Y, Z]`: what the state's RGB residual is added to.
     pub fn colour_tensor(&self, vols: &CondVolumes, device: &Device) -> Tensor<4> {
+        let [x, y, z] = vols.b.dims;
+        tensor_from(self.colour_data(vols), [3, x, y, z], device)
+    }
+
+    /// [`Self::colour_tensor`] as plain data `[3, X, Y, Z]`.
+    pub fn colour_data(&self, vols: &CondVolumes) -> Vec<f32> {
         let n = vols.b.dims.iter().product::<usize>();
         let mut data = vec![0.0f32; 3 * n];
         for (v, rgb) in vols.b.data.chunks_exact(3).enumerate() {
@@ -139,8 +145,7 @@ impl Normalisation {
                 data[c * n + v] = rgb[c] * self.white_balance[c];
             }
         }
-        let [x, y, z] = vols.b.dims;
-        tensor_from(data, [3, x, y, z], device)
+        data
     }
 
     /// The conditioning channels `[K, X, Y, Z]` in the order of `channels`.
@@ -150,6 +155,13 @@ impl Normalisation {
         vols: &CondVolumes,
         device: &Device,
     ) -> Tensor<4> {
+        let width: usize = channels.iter().map(|c| c.width()).sum();
+        let [x, y, z] = vols.g.dims;
+        tensor_from(self.cond_data(channels, vols), [width, x, y, z], device)
+    }
+
+    /// [`Self::cond_tensor`] as plain data `[K, X, Y, Z]`.
+    pub fn cond_data(&self, channels: &[CondChannel], vols: &CondVolumes) -> Vec<f32> {
         let n = vols.g.dims.iter().product::<usize>();
         let width: usize = channels.iter().map(|c| c.width()).sum();
         let mut data = vec![0.0f32; width * n];
@@ -181,7 +193,6 @@ impl Normalisation {
             }
             base += channel.width();
         }
-        let [x, y, z] = vols.g.dims;
-        tensor_from(data, [width, x, y, z], device)
+        data
     }
 }

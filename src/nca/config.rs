@@ -33,6 +33,8 @@ pub struct TrainConfig {
     pub memory: MemoryConfig,
     #[serde(default)]
     pub checkpoint: CheckpointConfig,
+    #[serde(default)]
+    pub compute: ComputeConfig,
 }
 
 /// The network: state size, hidden width, conditioning, perception implementation.
@@ -137,6 +139,42 @@ pub struct CheckpointConfig {
     /// Also checkpoint every this many iterations (0: only by time).
     #[serde(default)]
     pub every: usize,
+}
+
+/// Which implementation runs the unroll and its backward pass.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Engine {
+    /// The fused CPU kernels (`nca::fused`): same numbers as burn to float rounding,
+    /// several times faster (BENCHMARKS.md).
+    #[default]
+    Fused,
+    /// burn's tensors and autodiff (`nca::checkpoint`): the reference; also the way to run
+    /// on `--device ndarray`.
+    Burn,
+}
+
+impl std::str::FromStr for Engine {
+    type Err = crate::error::XylemError;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "fused" => Ok(Engine::Fused),
+            "burn" => Ok(Engine::Burn),
+            other => Err(crate::error::XylemError::input(
+                format!("engine {other:?}"),
+                "expected `fused` (default) or `burn`",
+            )),
+        }
+    }
+}
+
+/// How training computes; none of it changes the model, only speed (and float rounding).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ComputeConfig {
+    #[serde(default)]
+    pub engine: Engine,
 }
 
 fn default_state_channels() -> usize {

@@ -44,6 +44,7 @@ pub mod config;
 pub mod denormals;
 pub mod faces;
 pub mod fit_source;
+pub mod fused;
 pub mod loss;
 pub mod loss_log;
 pub mod model;

@@ -58,7 +58,7 @@ pub fn run_training(
 ) -> Result<TrainOutcome> {
     check_data(data)?;
     let root = out.root();
-    let mut trainer = Trainer::new(config, data, kind);
+    let mut trainer = Trainer::new(config, data, kind)?;
     let meta = |iterations| ModelMeta {
         spec: config.model.clone(),
         normalisation: data.normalisation.clone(),
@@ -100,7 +100,7 @@ pub fn run_training(
                 rows,
             });
         }
-        let row = trainer.iterate(loss);
+        let row = trainer.iterate(loss)?;
         if !row.loss.is_finite() {
             return Err(XylemError::numeric(
                 "nca training",

@@ -4,7 +4,9 @@
 //!    draws exactly what an uninterrupted one would;
 //! 2. start from a fresh seed or the pool slot's state;
 //! 3. unroll with segment checkpointing and backpropagate
-//!    style(faces of B + state[0..3]) + w mean|S - clamp(S, -1, 1)|;
+//!    style(faces of B + state[0..3]) + w mean|S - clamp(S, -1, 1)|, in the fused kernels
+//!    (`nca::fused`, the default) or in burn (`compute.engine = "burn"`, the reference);
+//!    burn differentiates the loss either way;
 //! 4. normalise each parameter's gradient, g / (|g| + 1e-8), and take an Adam step with the
 //!    scheduled learning rate;
 //! 5. write the final state back to the pool slot.
@@ -13,17 +15,19 @@ use burn::module::{Module, Param};
 use burn::optim::{AdamConfig, GradientsParams, ModuleOptimizer};
 use burn::tensor::{Device, Tensor};
 
-use super::checkpoint::{Objective, unroll_gradients};
+use super::checkpoint::{Objective, UnrollGradients, unroll_gradients};
 use super::conditioning::{Conditioning, Normalisation};
-use super::config::TrainConfig;
+use super::config::{Engine, TrainConfig};
 use super::faces::{FacePatch, face_patches};
 use super::fit_source::FitRecord;
+use super::fused::{FixedInputs, Isa, burn_bridge};
 use super::loss::FaceLoss;
 use super::loss_log::LossRow;
 use super::model::{Nca, StepInputs};
 use super::pool::{Pool, Start};
 use super::region::Region;
 use super::targets::face_targets;
+use super::tensors::tensor_from;
 use super::unroll::seed_state;
 use crate::device::DeviceKind;
 use crate::error::Result;
@@ -61,10 +65,16 @@ impl TrainData {
     }
 }
 
+/// The fixed step inputs of a region in the form the engine wants.
+enum EngineInputs {
+    Burn(StepInputs),
+    Fused(FixedInputs),
+}
+
 /// Per region, everything that is fixed during training (no autodiff).
 struct RegionInputs {
     region: Region,
-    step: StepInputs,
+    step: EngineInputs,
     /// The used faces this region touches.
     faces: Vec<Face>,
     /// Their patches of white-balanced B, `[3, h, w]` each, in the same order.
@@ -90,6 +100,8 @@ pub struct Trainer {
     pub pool: Pool,
     pub iteration: usize,
     pub kind: DeviceKind,
+    /// Instruction set of the fused kernels.
+    pub isa: Isa,
     regions: Vec<RegionInputs>,
     /// Plain device (no autodiff) for seeds and pool states.
     device: Device,
@@ -102,24 +114,25 @@ pub fn adam() -> ModuleOptimizer {
 
 impl Trainer {
     /// A fresh trainer: model initialised from the config seed, empty pool, iteration 0.
-    pub fn new(config: &TrainConfig, data: &TrainData, kind: DeviceKind) -> Self {
+    pub fn new(config: &TrainConfig, data: &TrainData, kind: DeviceKind) -> Result<Self> {
         let device = kind.device();
         let model = Nca::init(&config.model, config.seed, &kind.autodiff_device());
         let optimiser = adam();
         let regions = Region::training_regions(config.volume.size, config.volume.crop)
             .into_iter()
             .map(|r| region_inputs(r, config, data, &device))
-            .collect();
-        Self {
+            .collect::<Result<_>>()?;
+        Ok(Self {
             config: config.clone(),
             model,
             optimiser,
             pool: Pool::new(config.pool.size),
             iteration: 0,
             kind,
+            isa: Isa::best(),
             regions,
             device,
-        }
+        })
     }
 
     pub fn device(&self) -> &Device {
@@ -169,7 +182,7 @@ impl Trainer {
     }
 
     /// Runs iteration `self.iteration` and returns its log row.
-    pub fn iterate(&mut self, loss: &dyn FaceLoss) -> LossRow {
+    pub fn iterate(&mut self, loss: &dyn FaceLoss) -> Result<LossRow> {
         let it = self.iteration;
         let Draw {
             steps,
@@ -180,14 +193,23 @@ impl Trainer {
         let cfg = &self.config;
         let inputs = &self.regions[region_index];
         let overflow_weight = cfg.loss.overflow;
-        let out = unroll_gradients(
-            &self.model,
-            start,
-            &inputs.step,
-            steps,
-            cfg.memory.segment_steps,
-            |state| objective(state, inputs, loss, it, overflow_weight),
-        );
+        let segment = cfg.memory.segment_steps;
+        let loss_of = |state| objective(state, inputs, loss, it, overflow_weight);
+        let out: UnrollGradients = match &inputs.step {
+            EngineInputs::Burn(step) => {
+                unroll_gradients(&self.model, start, step, steps, segment, loss_of)
+            }
+            EngineInputs::Fused(fixed) => burn_bridge::unroll_gradients(
+                &self.model,
+                &self.device,
+                self.isa,
+                start,
+                fixed,
+                steps,
+                segment,
+                loss_of,
+            )?,
+        };
         let lr = cfg.learning_rate(it);
         let grads = normalise_gradients(&self.model, out.grads);
         self.model = self.optimiser.step(lr, self.model.clone(), grads);
@@ -201,14 +223,14 @@ impl Trainer {
                 .find(|(n, _)| *n == name)
                 .map_or(0.0, |t| t.1)
         };
-        LossRow {
+        Ok(LossRow {
             iteration: it,
             steps,
             loss: out.loss,
             style: term("style"),
             overflow: term("overflow"),
             learning_rate: lr,
-        }
+        })
     }
 }
 
@@ -218,20 +240,28 @@ fn region_inputs(
     cfg: &TrainConfig,
     data: &TrainData,
     device: &Device,
-) -> RegionInputs {
+) -> Result<RegionInputs> {
     let vols = data.conditioning.sample(&region);
     let channels = &cfg.model.conditioning;
-    let cond =
-        (!channels.is_empty()).then(|| data.normalisation.cond_tensor(channels, &vols, device));
-    let step = StepInputs::new(cond, region.positions(device), cfg.model.perception);
+    let cond = data.normalisation.cond_data(channels, &vols);
+    let k = cfg.model.cond_channels();
+    let step = match cfg.compute.engine {
+        Engine::Fused => EngineInputs::Fused(FixedInputs::new(&region, cond, k)?),
+        Engine::Burn => {
+            let [x, y, z] = region.dims;
+            let cond = (k > 0).then(|| tensor_from(cond, [k, x, y, z], device));
+            let positions = region.positions(device);
+            EngineInputs::Burn(StepInputs::new(cond, positions, cfg.model.perception))
+        }
+    };
     let colour = data.normalisation.colour_tensor(&vols, device);
     let colour_faces = face_patches(&colour, &region, &data.faces);
-    RegionInputs {
+    Ok(RegionInputs {
         region,
         step,
         faces: colour_faces.iter().map(|p| p.face).collect(),
         colour_faces,
-    }
+    })
 }
 
 /// style(faces of B + state RGB) + w x mean |S - clamp(S, -1, 1)|.

@@ -26,6 +26,13 @@ pub fn seed_state(
     device: &Device,
 ) -> Tensor<4> {
     let [dx, dy, dz] = region.dims;
+    let data = seed_data(channels, amplitude, region, key);
+    tensor_from(data, [channels, dx, dy, dz], device)
+}
+
+/// [`seed_state`] as plain data `[C, X, Y, Z]`.
+pub fn seed_data(channels: usize, amplitude: f32, region: &Region, key: u64) -> Vec<f32> {
+    let [dx, dy, dz] = region.dims;
     let n = dx * dy * dz;
     let mut data = vec![0.0f32; channels * n];
     data.par_chunks_mut(n).enumerate().for_each(|(c, plane)| {
@@ -44,7 +51,7 @@ pub fn seed_state(
             }
         }
     });
-    tensor_from(data, [channels, dx, dy, dz], device)
+    data
 }
 
 /// x-slabs `(start, len)` covering `x` voxels with at most `slab_voxels` voxels each.

@@ -1,0 +1,290 @@
+//! Choosing the instruction set at run time (`is_x86_feature_detected!`) and compiling each
+//! kernel once per instruction set.
+//!
+//! The kernels are generic over [`Kernels`] (a `simd::Simd` token with tile sizes) and
+//! `#[inline(always)]`; [`multiversion!`] wraps such a generic body in one function per
+//! instruction set, each with its own `#[target_feature]`, so the same source compiles to
+//! AVX-512, AVX2 + FMA, or the x86-64 baseline (SSE2, no FMA); the elementwise loops are
+//! vectorised by LLVM for the enabled set. Nothing is built
+//! with `-C target-cpu=native`: one binary runs everywhere and picks the best path.
+//!
+//! An [`Isa`] can only be obtained for an instruction set the CPU has, which is what makes
+//! calling the `#[target_feature]` functions sound.
+
+use std::fmt;
+use std::str::FromStr;
+
+use super::gemm::{Store, gemm, reduce};
+#[cfg(target_arch = "x86_64")]
+use super::simd::{Avx2, Avx512};
+use super::simd::{Portable, Simd};
+use crate::error::XylemError;
+
+/// Instruction-set levels, best first.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Level {
+    /// AVX-512F/VL with FMA: 32 vector registers of 16 floats.
+    Avx512,
+    /// AVX2 with FMA: 16 registers of 8 floats.
+    Avx2,
+    /// The x86-64 baseline or any other architecture: whatever the compiler targets by
+    /// default, no FMA.
+    Portable,
+}
+
+/// An instruction-set level this CPU supports (the only way to get one is to check).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Isa(Level);
+
+impl Isa {
+    /// The level if this CPU supports it.
+    pub fn new(level: Level) -> Option<Self> {
+        supported(level).then_some(Self(level))
+    }
+
+    /// The best level this CPU supports.
+    pub fn best() -> Self {
+        [Level::Avx512, Level::Avx2, Level::Portable]
+            .into_iter()
+            .find_map(Self::new)
+            .expect("the portable level is always supported")
+    }
+
+    /// Every level this CPU supports, best first.
+    pub fn all() -> Vec<Self> {
+        [Level::Avx512, Level::Avx2, Level::Portable]
+            .into_iter()
+            .filter_map(Self::new)
+            .collect()
+    }
+
+    pub fn level(self) -> Level {
+        self.0
+    }
+
+    /// The tile sizes of this level (they decide the padded shapes, see `layout::Shapes`).
+    pub fn tiles(self) -> Tiles {
+        match self.0 {
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx512 => <Avx512 as Kernels>::TILES,
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx2 => <Avx2 as Kernels>::TILES,
+            _ => <Portable as Kernels>::TILES,
+        }
+    }
+}
+
+impl fmt::Display for Isa {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self.0 {
+            Level::Avx512 => "avx512",
+            Level::Avx2 => "avx2",
+            Level::Portable => "portable",
+        })
+    }
+}
+
+impl FromStr for Isa {
+    type Err = XylemError;
+
+    /// `avx512`, `avx2`, `portable` or `best`; an error if this CPU lacks it.
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let level = match s.trim().to_ascii_lowercase().as_str() {
+            "best" => return Ok(Self::best()),
+            "avx512" => Level::Avx512,
+            "avx2" => Level::Avx2,
+            "portable" => Level::Portable,
+            other => {
+                return Err(XylemError::input(
+                    format!("instruction set {other:?}"),
+                    "expected avx512, avx2, portable or best",
+                ));
+            }
+        };
+        Self::new(level).ok_or_else(|| {
+            XylemError::input(
+                format!("instruction set {s:?}"),
+                "this CPU does not support it",
+            )
+        })
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+fn supported(level: Level) -> bool {
+    match level {
+        Level::Avx512 => {
+            is_x86_feature_detected!("avx512f")
+                && is_x86_feature_detected!("avx512vl")
+                && is_x86_feature_detected!("avx2")
+                && is_x86_feature_detected!("fma")
+        }
+        Level::Avx2 => is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma"),
+        Level::Portable => true,
+    }
+}
+
+#[cfg(not(target_arch = "x86_64"))]
+fn supported(level: Level) -> bool {
+    level == Level::Portable
+}
+
+/// Tile sizes of one instruction set, as run-time numbers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Tiles {
+    /// Rows per tile of the gemms with hidden-sized outputs (W1 forward, W2^T backward).
+    pub rm_hidden: usize,
+    /// Rows per tile of the gemms with state-sized outputs (W2 forward, W1^T backward).
+    pub rm_state: usize,
+    /// Rows of X and of Y per tile of the gradient reductions.
+    pub reduce: (usize, usize),
+}
+
+/// One instruction set's kernels: tile sizes fixed at compile time. Implemented by the
+/// [`Simd`] tokens, so a kernel can only run where its instructions exist.
+pub trait Kernels: Simd {
+    const TILES: Tiles;
+    /// [`gemm`] with `TILES.rm_hidden` rows per tile.
+    #[allow(clippy::too_many_arguments)]
+    fn gemm_hidden(
+        self,
+        a: &[f32],
+        k: usize,
+        b: &[f32],
+        c: &mut [f32],
+        stride: usize,
+        cols: usize,
+        store: Store,
+    );
+    /// [`gemm`] with `TILES.rm_state` rows per tile.
+    #[allow(clippy::too_many_arguments)]
+    fn gemm_state(
+        self,
+        a: &[f32],
+        k: usize,
+        b: &[f32],
+        c: &mut [f32],
+        stride: usize,
+        cols: usize,
+        store: Store,
+    );
+    /// [`reduce`] with `TILES.reduce` tiles.
+    #[allow(clippy::too_many_arguments)]
+    fn reduce(
+        self,
+        x: &[f32],
+        x_rows: usize,
+        y: &[f32],
+        y_rows: usize,
+        stride: usize,
+        nvec: usize,
+        lanes: &mut [f32],
+    );
+}
+
+/// Columns of C per gemm tile are `NV * LANES`; every level uses at most 2, so blocks are
+/// multiples of `2 * LANES` cells.
+pub const MAX_NV: usize = 2;
+
+/// Implements [`Kernels`] for a [`Simd`] token from literal tile sizes, so the constants and
+/// the const generic arguments cannot disagree.
+macro_rules! kernels {
+    ($name:ty, hidden = ($rmh:literal, $nvh:literal), state = ($rms:literal, $nvs:literal), reduce = ($rx:literal, $ry:literal)) => {
+        impl Kernels for $name {
+            const TILES: Tiles = Tiles {
+                rm_hidden: $rmh,
+                rm_state: $rms,
+                reduce: ($rx, $ry),
+            };
+            #[inline(always)]
+            fn gemm_hidden(
+                self,
+                a: &[f32],
+                k: usize,
+                b: &[f32],
+                c: &mut [f32],
+                stride: usize,
+                cols: usize,
+                store: Store,
+            ) {
+                gemm::<Self, $rmh, $nvh>(self, a, k, b, c, stride, cols, store)
+            }
+            #[inline(always)]
+            fn gemm_state(
+                self,
+                a: &[f32],
+                k: usize,
+                b: &[f32],
+                c: &mut [f32],
+                stride: usize,
+                cols: usize,
+                store: Store,
+            ) {
+                gemm::<Self, $rms, $nvs>(self, a, k, b, c, stride, cols, store)
+            }
+            #[inline(always)]
+            fn reduce(
+                self,
+                x: &[f32],
+                x_rows: usize,
+                y: &[f32],
+                y_rows: usize,
+                stride: usize,
+                nvec: usize,
+                lanes: &mut [f32],
+            ) {
+                reduce::<Self, $rx, $ry>(self, x, x_rows, y, y_rows, stride, nvec, lanes)
+            }
+        }
+    };
+}
+
+// Register budgets: AVX-512 has 32 zmm (one per lane array): 8 x 2 = 16 and 12 x 2 = 24
+// accumulators in the gemms, 4 x 6 = 24 in the reductions. AVX2 has 16 ymm (two per lane
+// array): 4 x 1 lane arrays = 8 ymm, reductions 2 x 3 = 12 ymm. The portable build gets
+// small tiles the compiler can keep in SSE registers.
+#[cfg(target_arch = "x86_64")]
+kernels!(Avx512, hidden = (8, 2), state = (12, 2), reduce = (4, 6));
+#[cfg(target_arch = "x86_64")]
+kernels!(Avx2, hidden = (4, 1), state = (4, 1), reduce = (2, 3));
+kernels!(Portable, hidden = (2, 1), state = (2, 1), reduce = (1, 2));
+
+/// Defines `fn $name(isa: Isa, args..)` that runs the generic `$body::<K>(token, args..)`
+/// compiled for `isa`'s instruction set.
+macro_rules! multiversion {
+    ($(#[$meta:meta])* $vis:vis fn $name:ident($($arg:ident : $ty:ty),* $(,)?) $(-> $ret:ty)? => $body:ident) => {
+        $(#[$meta])*
+        #[allow(clippy::too_many_arguments)]
+        $vis fn $name(isa: $crate::nca::fused::dispatch::Isa, $($arg: $ty),*) $(-> $ret)? {
+            use $crate::nca::fused::simd::Portable;
+            #[cfg(target_arch = "x86_64")]
+            use $crate::nca::fused::simd::{Avx2, Avx512};
+            #[cfg(target_arch = "x86_64")]
+            #[target_feature(enable = "avx512f,avx2,fma")]
+            #[allow(clippy::too_many_arguments)]
+            fn avx512(k: Avx512, $($arg: $ty),*) $(-> $ret)? {
+                $body(k, $($arg),*)
+            }
+            #[cfg(target_arch = "x86_64")]
+            #[target_feature(enable = "avx2,fma")]
+            #[allow(clippy::too_many_arguments)]
+            fn avx2(k: Avx2, $($arg: $ty),*) $(-> $ret)? {
+                $body(k, $($arg),*)
+            }
+            #[cfg(target_arch = "x86_64")]
+            if let Some(k) = Avx512::from_isa(isa) {
+                // SAFETY: the token exists only if avx512f (and avx2, fma) were detected.
+                return unsafe { avx512(k, $($arg),*) };
+            }
+            #[cfg(target_arch = "x86_64")]
+            if isa.level() == $crate::nca::fused::dispatch::Level::Avx2 {
+                if let Some(k) = Avx2::from_isa(isa) {
+                    // SAFETY: the token exists only if avx2 and fma were detected.
+                    return unsafe { avx2(k, $($arg),*) };
+                }
+            }
+            $body(Portable, $($arg),*)
+        }
+    };
+}
+pub(crate) use multiversion;
