@@ -8,6 +8,7 @@
 use super::conditioning::Normalisation;
 use crate::frame::Face;
 use crate::image2::Image2;
+pub use crate::loss::white_balance;
 use crate::sample::Sample;
 
 /// The white-balanced targets at `size` x `size` (`None` for faces not used) and the mean
@@ -33,18 +34,6 @@ pub fn photo_mean(sample: &Sample) -> [f32; 3] {
         count += 1.0;
     }
     sum.map(|s| s / count.max(1.0))
-}
-
-/// Divides each channel by twice its mean.
-pub fn white_balance(img: &Image2) -> Image2 {
-    let means = img.channel_means();
-    let mut out = img.clone();
-    for px in out.data.chunks_exact_mut(img.channels) {
-        for (v, m) in px.iter_mut().zip(&means) {
-            *v *= 0.5 / m.max(1e-4);
-        }
-    }
-    out
 }
 
 /// Undoes the white balance of `norm` on a white-balanced RGB value.
