@@ -115,7 +115,7 @@ fn seeded_distortion_is_monotone_and_actually_distorts() {
         ray_is_increasing(
             &field,
             rng.range(-1.0, 1.0),
-            rng.range(0.0, 6.283),
+            rng.range(0.0, std::f32::consts::TAU),
             4.0,
             300,
         )

@@ -57,13 +57,13 @@ pub fn comparison_sheet(columns: &[(String, Column)], tile: usize) -> Image2 {
     let mut sheet = Image2::filled(width, height, 3, BACKGROUND);
     for (ci, (title, column)) in columns.iter().enumerate() {
         let left = label_w + ci * (tile + GAP);
-        let title = fit_text(title, tile);
+        let (title, scale) = fit_text(title, tile);
         draw_text(
             &mut sheet,
             &title,
-            GAP,
-            left + (tile.saturating_sub(text_width(&title, TEXT_SCALE))) / 2,
-            TEXT_SCALE,
+            GAP + (TEXT_SCALE - scale) * LINE / 2,
+            left + (tile.saturating_sub(text_width(&title, scale))) / 2,
+            scale,
             &INK,
         );
         for row in 0..SHEET_ROWS.len() {
@@ -89,10 +89,16 @@ pub fn comparison_sheet(columns: &[(String, Column)], tile: usize) -> Image2 {
     sheet
 }
 
-/// Shortens a title to fit `width` pixels at the sheet's text scale.
-fn fit_text(text: &str, width: usize) -> String {
-    let max_chars = (width / text_width("M", TEXT_SCALE)).max(1);
-    text.chars().take(max_chars).collect()
+/// A title and its text scale for `width` pixels: the sheet's scale if it fits, else the
+/// small font (small tiles), shortened only if even that is too wide.
+fn fit_text(text: &str, width: usize) -> (String, usize) {
+    for scale in [TEXT_SCALE, 1] {
+        if text_width(text, scale) <= width {
+            return (text.to_string(), scale);
+        }
+    }
+    let max_chars = (width / text_width("M", 1)).max(1);
+    (text.chars().take(max_chars).collect(), 1)
 }
 
 /// Images side by side with a caption above each (renders, turntables).
@@ -103,8 +109,15 @@ pub fn captioned_row(items: &[(String, &Image2)]) -> Image2 {
     let mut out = Image2::filled(width, height, 3, BACKGROUND);
     let mut left = GAP;
     for (caption, img) in items {
-        let caption = fit_text(caption, img.width);
-        draw_text(&mut out, &caption, GAP, left, TEXT_SCALE, &INK);
+        let (caption, scale) = fit_text(caption, img.width);
+        draw_text(
+            &mut out,
+            &caption,
+            GAP + (TEXT_SCALE - scale) * LINE / 2,
+            left,
+            scale,
+            &INK,
+        );
         out.blit(&img.with_channels(3), header_h, left);
         left += img.width + GAP;
     }
