@@ -19,10 +19,10 @@ fn chromium() -> Option<PathBuf> {
         return Some(PathBuf::from(p));
     }
     for name in ["chromium", "chromium-browser", "google-chrome"] {
-        if let Ok(out) = Command::new("which").arg(name).output() {
-            if out.status.success() {
-                return Some(PathBuf::from(String::from_utf8_lossy(&out.stdout).trim()));
-            }
+        if let Ok(out) = Command::new("which").arg(name).output()
+            && out.status.success()
+        {
+            return Some(PathBuf::from(String::from_utf8_lossy(&out.stdout).trim()));
         }
     }
     if std::env::var_os("XYLEM_SKIP_BROWSER").is_some() {

@@ -284,21 +284,21 @@ impl GrowthConfig {
         if let Some(d) = &self.distortion {
             d.validate(&check.nested("distortion"), na)?;
         }
-        if let Some([lo, hi]) = self.height_range {
-            if !(lo.is_finite() && hi.is_finite() && hi > lo) {
-                return Err(check.error(
-                    "height_range",
-                    format!("= [{lo}, {hi}]: expected [low, high] with low < high"),
-                ));
-            }
+        if let Some([lo, hi]) = self.height_range
+            && !(lo.is_finite() && hi.is_finite() && hi > lo)
+        {
+            return Err(check.error(
+                "height_range",
+                format!("= [{lo}, {hi}]: expected [low, high] with low < high"),
+            ));
         }
-        if let Some([lo, hi]) = self.radius_range {
-            if !(lo.is_finite() && hi.is_finite() && lo >= 0.0 && hi > lo) {
-                return Err(check.error(
-                    "radius_range",
-                    format!("= [{lo}, {hi}]: expected [low, high] with 0 <= low < high"),
-                ));
-            }
+        if let Some([lo, hi]) = self.radius_range
+            && !(lo.is_finite() && hi.is_finite() && lo >= 0.0 && hi > lo)
+        {
+            return Err(check.error(
+                "radius_range",
+                format!("= [{lo}, {hi}]: expected [low, high] with 0 <= low < high"),
+            ));
         }
         if let Some([lo, hi]) = self.azimuth_range {
             let turn = std::f32::consts::TAU;

@@ -44,7 +44,7 @@ pub fn segment_lengths(steps: usize, segment: usize) -> Vec<usize> {
         return vec![steps];
     }
     let mut lens = vec![segment; steps / segment];
-    if steps % segment > 0 {
+    if !steps.is_multiple_of(segment) {
         lens.push(steps % segment);
     }
     lens

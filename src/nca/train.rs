@@ -159,7 +159,7 @@ impl Trainer {
         let slot_draw = rng.below(self.pool.len().max(1));
         let region_draw = rng.below(self.regions.len());
         let seed_key = rng.next_u64();
-        let fresh = it % cfg.pool.fresh_every == 0;
+        let fresh = it.is_multiple_of(cfg.pool.fresh_every);
         let (region, start, slot) = match self.pool.start(slot_draw, fresh) {
             Start::Fresh { slot } => {
                 let seed = seed_state(
