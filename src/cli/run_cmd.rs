@@ -90,13 +90,23 @@ pub fn run(args: RunArgs) -> Result<()> {
         None => species_on_field(&args.species, &fit)?,
     };
     let procedural = ProceduralWood::new(&species);
+    let base = base_colour(&fit)?;
+    let reference = reference_column(&args.sample)?;
     step("sheet");
-    write_sheet(&args, &out, &fit, &procedural, truth.is_some(), &nca)?;
-    write_unfolded(&args, &out, &nca)?;
+    let sheet = SheetInputs {
+        fit: &fit,
+        base: &base,
+        procedural: &procedural,
+        reference: &reference,
+        synthetic: truth.is_some(),
+        nca: &nca,
+    };
+    write_sheet(&args, &out, &sheet)?;
+    write_unfolded(&args, &out, &reference, &nca)?;
     step("renders");
-    write_renders(&args, &out, &fit, &procedural, &nca)?;
+    write_renders(&args, &out, &base, &procedural, &nca)?;
     step("metrics");
-    let table = run_metrics::metrics_table(&args.sample, &out, &faces, &fit, &procedural, &nca)?;
+    let table = run_metrics::metrics_table(&args.sample, &faces, &fit, &procedural, &nca)?;
     write_bytes_atomic(&out.path("metrics.csv"), table.to_csv().as_bytes())?;
     step("report");
     let title = format!("xylem run: {}", args.sample.display());
@@ -221,27 +231,30 @@ fn reference_column(sample: &Path) -> Result<Vec<Option<xylem::Image2>>> {
         .collect()
 }
 
-fn write_sheet(
-    args: &RunArgs,
-    out: &OutputDir,
-    fit: &FieldConfig,
-    procedural: &ProceduralWood,
+/// What the sheet shows, loaded once by [`run`] and shared with the other outputs.
+struct SheetInputs<'a> {
+    fit: &'a FieldConfig,
+    base: &'a BaseColourTexture,
+    procedural: &'a ProceduralWood,
+    /// Photos of the faces and, for a synthetic sample, the true cuts (SHEET_ROWS order).
+    reference: &'a [Option<xylem::Image2>],
     synthetic: bool,
-    nca: &Volume,
-) -> Result<()> {
-    let field = GrowthField::from_config(fit);
+    nca: &'a Volume,
+}
+
+fn write_sheet(args: &RunArgs, out: &OutputDir, inputs: &SheetInputs) -> Result<()> {
+    let field = GrowthField::from_config(inputs.fit);
     let rings = RingImage(&field);
-    let base = base_colour(fit)?;
-    let reference = if synthetic { "truth" } else { "photo" };
+    let reference = if inputs.synthetic { "truth" } else { "photo" };
     let columns = vec![
         (
             reference.to_string(),
-            Column::Images(reference_column(&args.sample)?),
+            Column::Images(inputs.reference.to_vec()),
         ),
         ("fitted rings".to_string(), Column::Texture(&rings)),
-        ("base colour".to_string(), Column::Texture(&base)),
-        ("procedural".to_string(), Column::Texture(procedural)),
-        ("NCA".to_string(), Column::Texture(nca)),
+        ("base colour".to_string(), Column::Texture(inputs.base)),
+        ("procedural".to_string(), Column::Texture(inputs.procedural)),
+        ("NCA".to_string(), Column::Texture(inputs.nca)),
     ];
     save_png(
         &comparison_sheet(&columns, args.image_size),
@@ -252,8 +265,12 @@ fn write_sheet(
 
 /// The reference faces (photos, or the synthetic truth) and the NCA's, both unfolded, side
 /// by side.
-fn write_unfolded(args: &RunArgs, out: &OutputDir, nca: &Volume) -> Result<()> {
-    let reference = reference_column(&args.sample)?;
+fn write_unfolded(
+    args: &RunArgs,
+    out: &OutputDir,
+    reference: &[Option<xylem::Image2>],
+    nca: &Volume,
+) -> Result<()> {
     let n = args.image_size;
     let faces: Vec<xylem::Image2> = Face::ALL
         .iter()
@@ -277,16 +294,15 @@ fn write_unfolded(args: &RunArgs, out: &OutputDir, nca: &Volume) -> Result<()> {
 fn write_renders(
     args: &RunArgs,
     out: &OutputDir,
-    fit: &FieldConfig,
+    base: &BaseColourTexture,
     procedural: &ProceduralWood,
     nca: &Volume,
 ) -> Result<()> {
     let cfg = RenderConfig::default_config();
     let n = args.image_size * 2;
-    let base = base_colour(fit)?;
     let textures: [(&str, &dyn SolidTexture); 3] = [
         ("NCA", nca),
-        ("base colour", &base),
+        ("base colour", base),
         ("procedural", procedural),
     ];
     let cubes: Vec<(String, xylem::Image2)> = textures

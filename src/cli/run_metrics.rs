@@ -14,7 +14,7 @@ use burn::tensor::Device;
 use xylem::field::{BaseColourTexture, ColourSpace, FieldConfig, GrowthField};
 use xylem::frame::{Face, Plane};
 use xylem::image2::Image2;
-use xylem::io::{OutputDir, load_rgb};
+use xylem::io::load_rgb;
 use xylem::loss::LossConfig;
 use xylem::metrics::{Comparer, METRIC_NAMES};
 use xylem::procedural::ProceduralWood;
@@ -68,7 +68,6 @@ fn references(sample: &Path, trained: &[Face]) -> Result<Vec<Reference>> {
 /// The metrics table of a run whose fit, synthesis and procedural texture are given.
 pub fn metrics_table(
     sample: &Path,
-    _out: &OutputDir,
     trained: &[Face],
     fit: &FieldConfig,
     procedural: &ProceduralWood,
