@@ -59,14 +59,14 @@ fn tiny_config(iterations: usize, crop: usize, pool: usize) -> TrainConfig {
     TrainConfig::parse(&text, Path::new("<test>")).unwrap()
 }
 
-fn data(sample_dir: &Path, grid: usize) -> TrainData {
+fn data(sample_dir: &Path, cfg: &TrainConfig) -> TrainData {
     let needs = Needs {
         photos: true,
         arl: false,
     };
     let sample = Sample::load(sample_dir, &Face::ALL, needs).unwrap();
     let fit = load_fit(&repo("configs/fields/distorted.toml"), photo_mean(&sample)).unwrap();
-    TrainData::prepare(&sample, fit, grid)
+    TrainData::prepare(&sample, fit, cfg)
 }
 
 fn train(
@@ -83,10 +83,12 @@ fn train(
 
 #[test]
 fn shipped_configs_load() {
-    for name in ["default", "quick"] {
+    // 5 perception filters x (12 state + conditioning channels) + 3 position channels;
+    // ring_phase adds cos and sin of 2 pi G to grey B and G.
+    for (name, inputs) in [("default", 73), ("quick", 83), ("quality", 83)] {
         let path = repo(&format!("configs/nca/{name}.toml"));
         let cfg = TrainConfig::load(&path).unwrap();
-        assert_eq!(cfg.model.inputs(), 73, "{name}");
+        assert_eq!(cfg.model.inputs(), inputs, "{name}");
     }
     let cfg = TrainConfig::load(&repo("configs/nca/default.toml")).unwrap();
     assert_eq!(cfg.model.parameters(), 73 * 128 + 128 + 128 * 12);
@@ -113,7 +115,7 @@ fn a_few_iterations_lower_the_loss() {
     let outcome = train(
         &dir.join("out"),
         &cfg,
-        &data(&dir.join("sample"), 12),
+        &data(&dir.join("sample"), &cfg),
         &TrainOptions::default(),
     );
     assert!(outcome.finished);
@@ -142,7 +144,7 @@ fn fused_and_burn_engines_train_alike() {
     let dir = scratch("engines");
     std::fs::create_dir_all(dir.join("sample")).unwrap();
     write_sample(&dir.join("sample"));
-    let data = data(&dir.join("sample"), 12);
+    let data = data(&dir.join("sample"), &tiny_config(6, 6, 2));
     let mut rows = Vec::new();
     for engine in [Engine::Fused, Engine::Burn] {
         let mut cfg = tiny_config(6, 6, 2);
@@ -182,7 +184,7 @@ fn resume_continues_exactly_like_an_uninterrupted_run() {
     // Corner crops and a pool: every kind of carried state is exercised.
     let mut cfg = tiny_config(8, 6, 4);
     cfg.checkpoint.every = 3;
-    let data = data(&dir.join("sample"), 12);
+    let data = data(&dir.join("sample"), &cfg);
     let straight = dir.join("straight");
     train(&straight, &cfg, &data, &TrainOptions::default());
     // Killed after 5 iterations: the last checkpoint is at 3, so 3 and 4 are redone.
@@ -337,8 +339,8 @@ fn style_loss_rejects_crops_smaller_than_its_filters() {
     std::fs::create_dir_all(dir.join("sample")).unwrap();
     write_sample(&dir.join("sample"));
     let cfg = tiny_config(2, 4, 0);
-    let data = data(&dir.join("sample"), 12);
-    let err = face_loss(&cfg, &data.targets, &DeviceKind::Flex.device())
+    let data = data(&dir.join("sample"), &cfg);
+    let err = face_loss(&cfg, &data, &DeviceKind::Flex.device())
         .err()
         .expect("a 4 px crop is too small for 5 px filters")
         .to_string();
@@ -348,7 +350,7 @@ fn style_loss_rejects_crops_smaller_than_its_filters() {
     );
     let mut moments = cfg.clone();
     moments.loss.face = FaceLossKind::Moments;
-    assert!(face_loss(&moments, &data.targets, &DeviceKind::Flex.device()).is_ok());
+    assert!(face_loss(&moments, &data, &DeviceKind::Flex.device()).is_ok());
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -365,9 +367,9 @@ fn style_loss_trains_whole_faces_and_lowers_the_loss() {
                 max_target_pixels = 4096\n[loss.style.weights]\ngram = 0.0\nmean = 0.0\n\
                 covariance = 0.0\nswd = 1.0\ncolour = 1.0\n";
     let cfg = TrainConfig::parse(text, Path::new("<test>")).unwrap();
-    let data = data(&dir.join("sample"), 16);
+    let data = data(&dir.join("sample"), &cfg);
     let kind = DeviceKind::Flex;
-    let loss = face_loss(&cfg, &data.targets, &kind.device()).unwrap();
+    let loss = face_loss(&cfg, &data, &kind.device()).unwrap();
     let mut trainer = Trainer::new(&cfg, &data, kind).unwrap();
     let rows: Vec<f32> = (0..12)
         .map(|_| trainer.iterate(loss.as_ref()).unwrap().style)
@@ -376,5 +378,50 @@ fn style_loss_trains_whole_faces_and_lowers_the_loss() {
     let last = rows[9..].iter().sum::<f32>() / 3.0;
     assert!(rows.iter().all(|v| v.is_finite() && *v > 0.0), "{rows:?}");
     assert!(last < 0.8 * first, "style loss {first} -> {last}: {rows:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 12: a model trained briefly with a pool keeps its state bounded when unrolled for
+/// four times its longest training unroll: the colour stays near [0, 1] and the volume after
+/// 4x the horizon stays close to the one at the horizon. (The same test with a 10x learning
+/// rate ends in values of +-1e6: it fails when training makes an unstable rule.)
+#[test]
+fn pool_trained_model_stays_bounded_past_its_horizon() {
+    use xylem::nca::model_dir::TrainedModel;
+    use xylem::nca::synth::{SynthOptions, ValueRange, synthesise};
+    let dir = scratch("bounded");
+    std::fs::create_dir_all(dir.join("sample")).unwrap();
+    write_sample(&dir.join("sample"));
+    let text = "seed = 4\n[model]\nhidden = 16\n[volume]\nsize = 16\ncrop = 8\n\
+                [schedule]\niterations = 60\nsteps = [3, 6]\nlearning_rate = 3e-3\n\
+                [pool]\nsize = 4\nfresh_every = 8\n[memory]\nsegment_steps = 0\n\
+                [loss]\nface = \"moments\"\n";
+    let cfg = TrainConfig::parse(text, Path::new("<test>")).unwrap();
+    let data = data(&dir.join("sample"), &cfg);
+    train(&dir.join("model"), &cfg, &data, &TrainOptions::default());
+    let device = DeviceKind::Flex.device();
+    let trained = TrainedModel::load(&dir.join("model"), &device).unwrap();
+    let volume = |steps| {
+        let options = SynthOptions {
+            size: 16,
+            steps,
+            seed: 9,
+            slab_voxels: 1 << 18,
+            engine: Engine::Fused,
+        };
+        synthesise(&trained, &options, &device, |_| {}).unwrap()
+    };
+    let (at_horizon, past) = (volume(6), volume(24));
+    let range = ValueRange::of(&past.data);
+    let drift = past
+        .data
+        .iter()
+        .zip(&at_horizon.data)
+        .map(|(a, b)| (a - b).abs())
+        .sum::<f32>()
+        / past.data.len() as f32;
+    eprintln!("range {range:?}, drift {drift}");
+    assert!(range.min > -0.05 && range.max < 1.05, "{range:?}");
+    assert!(drift < 0.1, "mean |V(24) - V(6)| = {drift}");
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -13,7 +13,7 @@ use xylem::nca::config::Engine;
 use xylem::presets::load_species_preset;
 use xylem::procedural::write_sample;
 
-use super::run_cmd::{self, RunArgs};
+use super::run_cmd::{self, NcaPreset, RunArgs};
 
 /// Run the built-in demo: synthetic sample -> fit -> NCA (quick) -> synthesis -> sheet,
 /// renders, metrics and report, with no external data.
@@ -39,7 +39,7 @@ pub struct DemoArgs {
     #[arg(long)]
     pub nca_config: Option<PathBuf>,
     /// NCA unroll steps of the synthesis.
-    #[arg(long, default_value_t = 24)]
+    #[arg(long, default_value_t = 90)]
     pub synth_steps: usize,
     /// CPU backend of the NCA's burn parts (optimiser, loss; the whole NCA with --engine burn).
     #[arg(long, default_value = "flex")]
@@ -70,6 +70,7 @@ pub fn run(args: DemoArgs) -> Result<()> {
         out: args.out,
         faces: None,
         nca_config: args.nca_config,
+        nca_preset: NcaPreset::Quick,
         fit_config: None,
         species: args.species,
         synth_steps: args.synth_steps,

@@ -24,8 +24,31 @@ use xylem::volume::Volume;
 
 use super::{fit_cmd, run_metrics, synth_cmd, train_cmd};
 
-/// The NCA config used when none is given: `configs/nca/quick.toml`, built in.
-pub const QUICK_NCA: &str = include_str!("../../configs/nca/quick.toml");
+/// The built-in NCA configs: `configs/nca/quick.toml` (the demo) and
+/// `configs/nca/quality.toml` (the default of `xylem run`).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NcaPreset {
+    /// 128^3 grid, 600 iterations: the demo, about 5 minutes in all.
+    Quick,
+    /// Native 256 px / 256^3, 3000 iterations: about 25 minutes for a cube on 2 cores.
+    Quality,
+}
+
+impl NcaPreset {
+    fn name(self) -> &'static str {
+        match self {
+            NcaPreset::Quick => "quick",
+            NcaPreset::Quality => "quality",
+        }
+    }
+
+    fn text(self) -> &'static str {
+        match self {
+            NcaPreset::Quick => include_str!("../../configs/nca/quick.toml"),
+            NcaPreset::Quality => include_str!("../../configs/nca/quality.toml"),
+        }
+    }
+}
 
 /// Run the whole pipeline on a sample folder and write a report.
 #[derive(Args, Debug, Clone)]
@@ -48,9 +71,12 @@ pub struct RunArgs {
     /// Faces to fit and train on (leave-one-face-out), e.g. A,B,C,D,E; default all six.
     #[arg(long)]
     pub faces: Option<String>,
-    /// NCA training config (default: the built-in configs/nca/quick.toml).
+    /// NCA training config (default: the built-in config named by --nca-preset).
     #[arg(long)]
     pub nca_config: Option<PathBuf>,
+    /// Built-in NCA config used when --nca-config is not given.
+    #[arg(long, default_value = "quality")]
+    pub nca_preset: NcaPreset,
     /// Fit config (default: the built-in defaults).
     #[arg(long)]
     pub fit_config: Option<PathBuf>,
@@ -58,8 +84,8 @@ pub struct RunArgs {
     /// synthetic sample shows its own truth instead).
     #[arg(long, default_value = "chestnut")]
     pub species: String,
-    /// NCA unroll steps of the synthesis.
-    #[arg(long, default_value_t = 24)]
+    /// NCA unroll steps of the synthesis (90, as the Mokume paper's inference).
+    #[arg(long, default_value_t = 90)]
     pub synth_steps: usize,
     /// Tile size of the sheet and side of the renders, in pixels.
     #[arg(long, default_value_t = 160)]
@@ -108,6 +134,9 @@ pub fn run(args: RunArgs) -> Result<()> {
     step("metrics");
     let table = run_metrics::metrics_table(&args.sample, &faces, &fit, &procedural, &nca)?;
     write_bytes_atomic(&out.path("metrics.csv"), table.to_csv().as_bytes())?;
+    let textures: [(&str, &dyn SolidTexture); 2] = [("nca", &nca), ("procedural", &procedural)];
+    let phase = run_metrics::phase_table(&args.sample, &fit, &textures, 256)?;
+    write_bytes_atomic(&out.path("phase.csv"), phase.to_csv().as_bytes())?;
     step("report");
     let title = format!("xylem run: {}", args.sample.display());
     let images = write_report(out.root(), &out.path("report/index.html"), &title)?;
@@ -148,8 +177,8 @@ fn train_step(args: &RunArgs, out: &OutputDir) -> Result<()> {
     let config = match &args.nca_config {
         Some(path) => path.clone(),
         None => {
-            let path = out.path("nca_quick.toml");
-            write_bytes_atomic(&path, QUICK_NCA.as_bytes())?;
+            let path = out.path(&format!("nca_{}.toml", args.nca_preset.name()));
+            write_bytes_atomic(&path, args.nca_preset.text().as_bytes())?;
             path
         }
     };

@@ -103,3 +103,61 @@ pub fn metrics_table(
     }
     Ok(MetricsTable { header, rows })
 }
+
+/// Phase bins of the pore-density curves.
+const PHASE_BINS: usize = 10;
+
+/// Pore density by ring phase (`phase.csv`): the curve of the sample's photos (all its faces
+/// pooled), and for every sheet row the curve of each texture with its correlation to the
+/// photos' curve. The ring phase everywhere is the fitted field's.
+pub fn phase_table(
+    sample: &Path,
+    fit: &FieldConfig,
+    textures: &[(&str, &dyn SolidTexture)],
+    size: usize,
+) -> Result<MetricsTable> {
+    use xylem::metrics::phase_density::{PhaseDensity, curve_correlation};
+    use xylem::report::{SHEET_ROWS, row_plane};
+    let field = GrowthField::from_config(fit);
+    let g_map = |plane: &Plane| slice_plane(&field, plane, size, size);
+    let mut photos = PhaseDensity::new(PHASE_BINS);
+    for face in Face::ALL {
+        let path = sample.join(format!("{face}_col.png"));
+        if path.is_file() {
+            photos.add(&load_rgb(&path)?, &g_map(&Plane::face(face)))?;
+        }
+    }
+    let reference = photos.curve();
+    let mut header = vec![
+        "method".to_string(),
+        "image".to_string(),
+        "corr".to_string(),
+    ];
+    header.extend((0..PHASE_BINS).map(|b| format!("bin{b}")));
+    let row = |method: &str, image: &str, curve: &[f32]| {
+        let mut r = vec![
+            method.to_string(),
+            image.to_string(),
+            curve_correlation(curve, &reference).to_string(),
+        ];
+        r.extend(curve.iter().map(|v| v.to_string()));
+        r
+    };
+    let mut rows = vec![row("photos", "all faces", &reference)];
+    for (i, name) in SHEET_ROWS.iter().enumerate() {
+        let plane = row_plane(i);
+        let g = g_map(&plane);
+        let truth = sample.join(format!("truth/{name}.png"));
+        if truth.is_file() {
+            let mut d = PhaseDensity::new(PHASE_BINS);
+            d.add(&load_rgb(&truth)?, &g)?;
+            rows.push(row("truth", name, &d.curve()));
+        }
+        for (method, texture) in textures {
+            let mut d = PhaseDensity::new(PHASE_BINS);
+            d.add(&slice_plane(*texture, &plane, size, size), &g)?;
+            rows.push(row(method, name, &d.curve()));
+        }
+    }
+    Ok(MetricsTable { header, rows })
+}

@@ -11,7 +11,7 @@ use xylem::io::OutputDir;
 use xylem::io::npy::write_volume;
 use xylem::nca::config::Engine;
 use xylem::nca::model_dir::TrainedModel;
-use xylem::nca::synth::{SynthOptions, synthesise};
+use xylem::nca::synth::{SynthOptions, ValueRange, synthesise};
 use xylem::outputs::SliceSet;
 
 /// Synthesise a solid texture with a trained NCA: the volume, its faces, cuts and cross.
@@ -19,7 +19,8 @@ use xylem::outputs::SliceSet;
 #[command(after_help = "Example:
   xylem synth --model out/cn03-nca --size 128 --steps 48 --out out/cn03-synth
 
-Writes DIR/volume.npy (float32 [N, N, N, 3], RGB in [0, 1], axes x, y, z as every xylem
+Writes DIR/volume.npy (float32 [N, N, N, 3], RGB; a trained model keeps it in [0, 1] by
+itself and the command prints the range, nothing is clamped; axes x, y, z as every xylem
 volume), DIR/faces/A.png..F.png, DIR/cuts/cut1.png, DIR/cuts/cut2.png, DIR/unfolded.png
 and DIR/model.toml (the model's description). The texture scale is per voxel: a --size other
 than the training grid scales pores and rays with it.")]
@@ -30,8 +31,8 @@ pub struct SynthArgs {
     /// Volume side in voxels (default: the training grid).
     #[arg(long, value_parser = clap::value_parser!(u32).range(4..=1024))]
     pub size: Option<u32>,
-    /// Unroll steps.
-    #[arg(long, default_value_t = 48)]
+    /// Unroll steps (90, as the Mokume paper's inference).
+    #[arg(long, default_value_t = 90)]
     pub steps: usize,
     /// Seed of the initial state (default: the training seed).
     #[arg(long)]
@@ -66,6 +67,15 @@ pub fn run(args: SynthArgs) -> Result<()> {
     );
     let volume = synthesise(&trained, &options, &device, |s| bar.set_position(s as u64))?;
     bar.finish();
+    let range = ValueRange::of(&volume.data);
+    eprintln!(
+        "colour values in [{:.3}, {:.3}], {} of {} ({:.2e}) outside [0, 1] (not clamped)",
+        range.min,
+        range.max,
+        range.outside_count,
+        volume.data.len(),
+        range.outside
+    );
     write_volume(&out.path("volume.npy"), &volume)?;
     SliceSet::render(&volume, size).write(&out, "")?;
     write_config_copy(

@@ -116,8 +116,8 @@ pub fn run(args: TrainArgs) -> Result<()> {
             load_fit(fit_path, photo_mean(&sample))?
         }
     };
-    let data = TrainData::prepare(&sample, fit, config.volume.size);
-    let loss = face_loss(&config, &data.targets, &args.device.device())?;
+    let data = TrainData::prepare(&sample, fit, &config);
+    let loss = face_loss(&config, &data, &args.device.device())?;
     let total = config.schedule.iterations as u64;
     let bar = ProgressBar::new(total).with_style(
         ProgressStyle::with_template(

@@ -42,6 +42,16 @@ pub struct FilterConfig {
     pub orientations: usize,
     /// Nonlinearity after the filters.
     pub nonlinearity: Nonlinearity,
+    /// Length-to-width ratio of the oriented filters' Gaussian (1: round, the first
+    /// design). Pores cut along the grain are dashes a pixel or two wide and many long; an
+    /// elongated second derivative responds to a dash and hardly to a dot, so the loss can
+    /// tell the two apart.
+    #[serde(default = "default_elongation")]
+    pub elongation: f32,
+}
+
+fn default_elongation() -> f32 {
+    1.0
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -162,6 +172,13 @@ impl FilterConfig {
                 "contains 1 while `orientations` > 0: oriented filters need kernels of 3 or more",
             ));
         }
+        check.range(
+            "elongation",
+            self.elongation,
+            1.0,
+            8.0,
+            "length-to-width ratio of the oriented filters",
+        )?;
         if self.random + self.orientations == 0 {
             return Err(check.error("random", "= 0 and `orientations` = 0: the bank is empty"));
         }

@@ -54,6 +54,11 @@ impl FeatureExtractor {
         (fh * fw >= self.min_layer_pixels).then_some((fh, fw))
     }
 
+    /// Offset of feature pixel (0, 0) in its level: the centre of the largest kernel.
+    pub fn valid_offset(&self) -> usize {
+        (self.max_kernel - 1) / 2
+    }
+
     /// Pyramid levels of `image` (`[3, H, W]`), finest first: each `[1, 3, H_l, W_l]`.
     pub fn levels(&self, image: Tensor<3>) -> Vec<Tensor<4>> {
         let [c, h, w] = image.dims();

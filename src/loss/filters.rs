@@ -38,8 +38,8 @@ pub fn filter_banks(cfg: &FilterConfig, seed: u64, device: &Device) -> Vec<Filte
             }
             for o in 0..cfg.orientations {
                 let angle = std::f32::consts::PI * o as f32 / cfg.orientations as f32;
-                data.extend(oriented_filter(k, angle, 1));
-                data.extend(oriented_filter(k, angle, 2));
+                data.extend(oriented_filter(k, angle, 1, cfg.elongation));
+                data.extend(oriented_filter(k, angle, 2, cfg.elongation));
             }
             let count = cfg.random + 2 * cfg.orientations;
             FilterBank {
@@ -64,17 +64,20 @@ fn random_filter(rng: &mut Rng, k: usize) -> Vec<f32> {
 }
 
 /// The `order`-th (1 or 2) derivative of a Gaussian across direction `angle` (radians, from
-/// the image's x axis), on luminance: `[3, k, k]`, zero-mean, unit norm. Sigma is a quarter
-/// of the kernel side so the kernel holds +-2 sigma.
-fn oriented_filter(k: usize, angle: f32, order: u32) -> Vec<f32> {
+/// the image's x axis), on luminance: `[3, k, k]`, zero-mean, unit norm. Sigma along the
+/// filter's line is a quarter of the kernel side so the kernel holds +-2 sigma; across it
+/// the sigma is that divided by `elongation` (at least half a pixel).
+fn oriented_filter(k: usize, angle: f32, order: u32, elongation: f32) -> Vec<f32> {
     let r = (k as f32 - 1.0) / 2.0;
-    let sigma = (k as f32 / 4.0).max(0.5);
+    let along = (k as f32 / 4.0).max(0.5);
+    let sigma = (along / elongation).max(0.5);
     let (s, c) = angle.sin_cos();
     let mut base = vec![0.0f32; k * k];
     for (i, v) in base.iter_mut().enumerate() {
         let (y, x) = ((i / k) as f32 - r, (i % k) as f32 - r);
         let n = (x * c + y * s) / sigma;
-        let g = (-(x * x + y * y) / (2.0 * sigma * sigma)).exp();
+        let t = (-x * s + y * c) / along;
+        let g = (-(n * n + t * t) / 2.0).exp();
         *v = match order {
             1 => -n * g,
             _ => (n * n - 1.0) * g,

@@ -30,6 +30,8 @@ pub mod distance;
 pub mod features;
 pub mod filters;
 pub mod gram;
+pub mod guided;
+pub mod guided_config;
 pub mod image_tensor;
 pub mod moments;
 pub mod pyramid;
@@ -38,6 +40,8 @@ pub mod style;
 pub mod texture2d;
 
 pub use config::{LossConfig, Nonlinearity};
+pub use guided::{GuidedLoss, GuidedPatch, GuidedTarget, GuidedTerms};
+pub use guided_config::GuidedConfig;
 pub use image_tensor::{image_to_tensor, tensor_to_image, white_balance};
 pub use style::{LossTerms, StyleLoss, StyleTargets};
 pub use texture2d::{Synthesis, Texture2dConfig, synthesize};

@@ -14,10 +14,10 @@ const PRE_SIGMA: f32 = 1.0;
 /// Integration scale of the tensor (px at 256): about a pore's neighbourhood.
 const TENSOR_SIGMA: f32 = 4.0;
 
-/// Double-angle orientation field: (Jxx - Jyy, 2 Jxy) per pixel.
-pub fn orientation_field(img: &Image2) -> Vec<[f32; 2]> {
-    let scale = img.width as f32 / 256.0;
-    let lum = gaussian_blur(&img.luminance(), PRE_SIGMA * scale);
+/// The structure tensor (Jxx, Jxy, Jyy) of a one-channel image: central differences of the
+/// image blurred by `pre_sigma`, products blurred by `tensor_sigma` (both in pixels).
+pub fn structure_tensor(img: &Image2, pre_sigma: f32, tensor_sigma: f32) -> [Image2; 3] {
+    let lum = gaussian_blur(img, pre_sigma);
     let (w, h) = (lum.width, lum.height);
     let at = |x: usize, y: usize| lum.data[y * w + x];
     let mut jxx = Image2::filled(w, h, 1, 0.0);
@@ -33,13 +33,19 @@ pub fn orientation_field(img: &Image2) -> Vec<[f32; 2]> {
             jyy.data[i] = gy * gy;
         }
     }
-    let s = TENSOR_SIGMA * scale;
-    let (jxx, jxy, jyy) = (
-        gaussian_blur(&jxx, s),
-        gaussian_blur(&jxy, s),
-        gaussian_blur(&jyy, s),
-    );
-    (0..w * h)
+    [
+        gaussian_blur(&jxx, tensor_sigma),
+        gaussian_blur(&jxy, tensor_sigma),
+        gaussian_blur(&jyy, tensor_sigma),
+    ]
+}
+
+/// Double-angle orientation field: (Jxx - Jyy, 2 Jxy) per pixel.
+pub fn orientation_field(img: &Image2) -> Vec<[f32; 2]> {
+    let scale = img.width as f32 / 256.0;
+    let [jxx, jxy, jyy] =
+        structure_tensor(&img.luminance(), PRE_SIGMA * scale, TENSOR_SIGMA * scale);
+    (0..jxx.data.len())
         .map(|i| [jxx.data[i] - jyy.data[i], 2.0 * jxy.data[i]])
         .collect()
 }

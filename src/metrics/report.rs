@@ -7,6 +7,7 @@
 
 use burn::tensor::Device;
 
+use super::anisotropy::pore_anisotropy;
 use super::lab::{colour_differences, image_to_lab};
 use super::orientation::orientation_agreement;
 use super::patch_swd::{PatchChannels, PatchSwdSettings, patch_swd};
@@ -16,7 +17,7 @@ use crate::image2::Image2;
 use crate::loss::{LossConfig, StyleLoss, image_to_tensor};
 
 /// Metric names in output order (JSON keys, CSV columns).
-pub const METRIC_NAMES: [&str; 8] = [
+pub const METRIC_NAMES: [&str; 10] = [
     "ring_ncc",
     "orient",
     "swd",
@@ -25,9 +26,12 @@ pub const METRIC_NAMES: [&str; 8] = [
     "dE_mean",
     "dE_std",
     "style",
+    "aniso",
+    "aniso_ref",
 ];
 
-/// The metrics of one comparison. Perfect values: `ring_ncc` 1, `orient` 1, all others 0.
+/// The metrics of one comparison. Perfect values: `ring_ncc` 1, `orient` 1, `aniso` equal to
+/// `aniso_ref`, all others 0.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Metrics {
     /// Ring alignment: best correlation of band-passed luminance over small shifts, [-1, 1].
@@ -46,11 +50,16 @@ pub struct Metrics {
     pub de_std: f32,
     /// The style loss of the candidate against the reference's statistics.
     pub style: f32,
+    /// Pore-scale anisotropy of the candidate, [0, 1] (not a distance: compare with
+    /// `aniso_ref`).
+    pub aniso: f32,
+    /// Pore-scale anisotropy of the reference.
+    pub aniso_ref: f32,
 }
 
 impl Metrics {
     /// The values in [`METRIC_NAMES`] order.
-    pub fn values(&self) -> [f32; 8] {
+    pub fn values(&self) -> [f32; 10] {
         [
             self.ring_ncc,
             self.orient,
@@ -60,6 +69,8 @@ impl Metrics {
             self.de_mean,
             self.de_std,
             self.style,
+            self.aniso,
+            self.aniso_ref,
         ]
     }
 
@@ -124,6 +135,8 @@ impl Comparer {
             de_mean,
             de_std,
             style: self.style_loss(&reference, &candidate)?,
+            aniso: pore_anisotropy(&candidate),
+            aniso_ref: pore_anisotropy(&reference),
         })
     }
 

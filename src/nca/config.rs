@@ -11,10 +11,11 @@ use serde::{Deserialize, Serialize};
 
 use super::conditioning::CondChannel;
 use super::perception::PerceptionImpl;
+use super::placement::Placement;
 use super::style_face_loss::FaceLossKind;
 use crate::config::{Checker, load_toml, parse_toml};
 use crate::error::Result;
-use crate::loss::LossConfig;
+use crate::loss::{GuidedConfig, LossConfig};
 
 /// Everything `xylem train` needs besides the sample and the fit.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -65,9 +66,13 @@ pub struct VolumeConfig {
     /// Side of the training volume in voxels; the face photos are resampled to size x size,
     /// so one voxel is 4 cm / size.
     pub size: usize,
-    /// Side of the corner crops trained on (each touches three faces). `crop = size` trains
-    /// the whole volume against all six faces.
+    /// Side of the crops trained on. `crop = size` trains the whole volume against all six
+    /// faces.
     pub crop: usize,
+    /// Where the crops lie: `faces` (anywhere against a trained face, the default) or
+    /// `corners` (the 8 corner crops of the first trial).
+    #[serde(default)]
+    pub placement: Placement,
 }
 
 /// Iterations, unroll lengths and the learning-rate schedule.
@@ -77,6 +82,12 @@ pub struct ScheduleConfig {
     pub iterations: usize,
     /// Unroll length per iteration, drawn uniformly from [min, max].
     pub steps: [usize; 2],
+    /// Steps a fresh seed is unrolled without gradients before its first training unroll,
+    /// drawn uniformly from [min, max] ([0, 0]: none). Synthesis runs 90 steps, so the
+    /// first few steps from the seed are never seen; with a burn-in the rule may take as
+    /// long as it needs to grow structure, and the loss judges grown states only.
+    #[serde(default)]
+    pub burn_in: [usize; 2],
     /// Adam learning rate at the start.
     #[serde(default = "default_lr")]
     pub learning_rate: f64,
@@ -110,9 +121,33 @@ pub struct LossWeights {
     #[serde(default)]
     pub face: FaceLossKind,
     /// The style loss's config (`[loss.style]`, same keys as `configs/loss/default.toml`,
-    /// which is the default).
+    /// which is the default). The guided loss takes its features from here too.
     #[serde(default = "LossConfig::default_config")]
     pub style: LossConfig,
+    /// The guided loss's window and guide settings (`[loss.guided]`).
+    #[serde(default)]
+    pub guided: GuidedConfig,
+    /// Planes inside each crop, parallel to the faces it touches, that are also compared
+    /// with those faces' photos (guided loss: with their own ring phase). A plane parallel
+    /// to a face cuts the fibres as the face does, so it should look like it; without them
+    /// the inside of the cube is never seen by the loss. Their depths are drawn per
+    /// iteration.
+    #[serde(default)]
+    pub inner_planes: usize,
+    /// What colour the targets have: `base` (each face photo scaled so its mean is the base
+    /// colour's mean on that face: the NCA adds texture, not a colour shift) or `face` (each
+    /// photo divided by twice its own mean, DESIGN section 6 as first written).
+    #[serde(default)]
+    pub target_colour: TargetColour,
+}
+
+/// The colour of the training targets (see [`LossWeights::target_colour`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TargetColour {
+    #[default]
+    Base,
+    Face,
 }
 
 /// Memory controls of the unroll.
@@ -217,6 +252,9 @@ impl Default for LossWeights {
             overflow: default_overflow(),
             face: FaceLossKind::default(),
             style: LossConfig::default_config(),
+            guided: GuidedConfig::default(),
+            inner_planes: 0,
+            target_colour: TargetColour::default(),
         }
     }
 }
@@ -341,6 +379,13 @@ impl TrainConfig {
                 format!("= [{lo}, {hi}]: expected [min, max] with min <= max <= 10000"),
             ));
         }
+        let [b_lo, b_hi] = self.schedule.burn_in;
+        if b_hi < b_lo || b_hi > 10_000 {
+            return Err(s.error(
+                "burn_in",
+                format!("= [{b_lo}, {b_hi}]: expected [min, max] with min <= max <= 10000"),
+            ));
+        }
         s.positive(
             "learning_rate",
             self.schedule.learning_rate as f32,
@@ -371,6 +416,23 @@ impl TrainConfig {
             "overflow-loss weight",
         )?;
         self.loss.style.validate(&l.nested("style"))?;
+        self.loss.guided.validate(&l.nested("guided"))?;
+        l.count(
+            "inner_planes",
+            self.loss.inner_planes,
+            0,
+            64,
+            "planes inside a crop compared with the photos",
+        )?;
+        if self.loss.inner_planes > 0 && self.loss.face != FaceLossKind::Guided {
+            return Err(l.error(
+                "inner_planes",
+                format!(
+                    "= {}: planes inside the crop need the guided loss (face = \"guided\")",
+                    self.loss.inner_planes
+                ),
+            ));
+        }
         let m = check.nested("memory");
         m.count(
             "segment_steps",

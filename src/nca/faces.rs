@@ -42,7 +42,8 @@ pub fn layout(face: Face) -> FaceLayout {
     FaceLayout { normal, rows, cols }
 }
 
-/// A face (or the part of it a crop covers) of a state.
+/// A face (or the part of it a crop covers) of a state, or a plane parallel to it inside
+/// the crop.
 #[derive(Clone, Debug)]
 pub struct FacePatch {
     pub face: Face,
@@ -50,6 +51,9 @@ pub struct FacePatch {
     pub image: Tensor<3>,
     /// Row and column of the patch's top-left pixel in the full face image of the grid.
     pub origin: [usize; 2],
+    /// For a plane inside the crop: its own guide channels `[G, h, w]` (the face's guide
+    /// image does not hold them); `None` on the face itself.
+    pub guide: Option<Tensor<3>>,
 }
 
 impl FaceLayout {
@@ -76,9 +80,20 @@ impl FaceLayout {
     /// The face image of a state `[C, X, Y, Z]` covering `region` (the region must touch the
     /// face): `[C, rows, cols]`.
     pub fn extract(&self, state: Tensor<4>, region: &Region) -> Tensor<3> {
+        self.extract_at(state, region, 0)
+    }
+
+    /// The plane `depth` voxels inside the region from this face, parallel to it, with the
+    /// face image's rows and columns: `[C, rows, cols]`.
+    pub fn extract_at(&self, state: Tensor<4>, region: &Region, depth: usize) -> Tensor<3> {
         let (axis, high) = self.normal;
         let dim = axis + 1;
-        let index = if high { region.dims[axis] - 1 } else { 0 };
+        let depth = depth.min(region.dims[axis] - 1);
+        let index = if high {
+            region.dims[axis] - 1 - depth
+        } else {
+            depth
+        };
         let slice = state.narrow(dim, index, 1).squeeze_dim::<3>(dim); // [C, a, b], a < b remaining axes
         let remaining: Vec<usize> = (0..3).filter(|&a| a != axis).collect();
         let row_first = remaining[0] == self.rows.0;
@@ -99,14 +114,40 @@ impl FaceLayout {
 
 /// The patches of every face in `faces` that `region` touches, from a state `[C, X, Y, Z]`.
 pub fn face_patches(state: &Tensor<4>, region: &Region, faces: &[Face]) -> Vec<FacePatch> {
+    patches_at(state, None, region, faces, 0)
+}
+
+/// Planes parallel to each face in `faces` that `region` touches, `depth` voxels inside,
+/// from a state `[C, X, Y, Z]`, with their own guides from `guide` (`[G, X, Y, Z]`). Each
+/// plane keeps its face's origin: its pixels lie over the same face pixels.
+pub fn inner_patches(
+    state: &Tensor<4>,
+    guide: &Tensor<4>,
+    region: &Region,
+    faces: &[Face],
+    depth: usize,
+) -> Vec<FacePatch> {
+    patches_at(state, Some(guide), region, faces, depth)
+}
+
+/// The planes `depth` voxels inside every face in `faces` that `region` touches (0 = the
+/// faces themselves), each with its guide plane when `guide` is given.
+fn patches_at(
+    state: &Tensor<4>,
+    guide: Option<&Tensor<4>>,
+    region: &Region,
+    faces: &[Face],
+    depth: usize,
+) -> Vec<FacePatch> {
     faces
         .iter()
         .filter_map(|&face| {
             let l = layout(face);
             l.touches(region).then(|| FacePatch {
                 face,
-                image: l.extract(state.clone(), region),
+                image: l.extract_at(state.clone(), region, depth),
                 origin: [l.start(l.rows, region), l.start(l.cols, region)],
+                guide: guide.map(|g| l.extract_at(g.clone(), region, depth)),
             })
         })
         .collect()

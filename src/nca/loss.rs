@@ -29,6 +29,16 @@ pub trait FaceLoss {
     fn loss(&self, patches: &[FacePatch], iteration: usize) -> Tensor<1>;
 }
 
+/// The loss of a crop that touches only faces left out: zero, with no gradient, on the
+/// patches' device.
+pub(crate) fn no_target_loss(patches: &[FacePatch]) -> Tensor<1> {
+    let device = patches
+        .first()
+        .map(|p| p.image.device())
+        .unwrap_or_default();
+    Tensor::zeros([1], &device)
+}
+
 /// Features per pixel of [`MomentLoss`].
 const FEATURES: usize = 5;
 /// Scales (1 = full resolution, 2 = 2x2 averages).

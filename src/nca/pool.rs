@@ -3,21 +3,25 @@
 //! than only to reach it after a few steps. Every `fresh_every` iterations the drawn slot gets
 //! a fresh seed instead, so the NCA also keeps learning to grow from noise.
 //!
-//! With crops, each slot remembers which region its state belongs to. A pool of size 0
+//! With crops, each slot remembers the region (place in the grid) its state belongs to. A pool of size 0
 //! starts every iteration from a fresh seed (the trial of DESIGN section 6 did that).
 
 use burn::tensor::{Device, Tensor};
 
+use super::region::Region;
 use super::tensors::{tensor_from, to_vec};
 use crate::error::{Result, XylemError};
 
-/// One stored state and the index of its region.
+/// One stored state and its region.
 #[derive(Clone, Debug)]
 pub struct Slot {
-    pub region: usize,
+    pub region: Region,
     /// `[C, X, Y, Z]`, no autodiff.
     pub state: Tensor<4>,
 }
+
+/// A slot as plain data: region, state shape `[C, X, Y, Z]`, values.
+pub type PlainSlot = (Region, [usize; 4], Vec<f32>);
 
 #[derive(Clone, Debug, Default)]
 pub struct Pool {
@@ -64,12 +68,17 @@ impl Pool {
     }
 
     /// Stores the result of an iteration.
-    pub fn put(&mut self, slot: usize, region: usize, state: Tensor<4>) {
+    pub fn put(&mut self, slot: usize, region: Region, state: Tensor<4>) {
         self.slots[slot] = Some(Slot { region, state });
     }
 
+    /// Regions of the filled slots.
+    pub fn regions(&self) -> impl Iterator<Item = &Region> {
+        self.slots.iter().flatten().map(|s| &s.region)
+    }
+
     /// The pool as plain data: per slot its region (or `None`) and its values.
-    pub fn to_data(&self) -> Result<Vec<Option<(usize, [usize; 4], Vec<f32>)>>> {
+    pub fn to_data(&self) -> Result<Vec<Option<PlainSlot>>> {
         self.slots
             .iter()
             .map(|s| {
@@ -81,10 +90,7 @@ impl Pool {
     }
 
     /// Rebuilds a pool from [`Pool::to_data`].
-    pub fn from_data(
-        data: Vec<Option<(usize, [usize; 4], Vec<f32>)>>,
-        device: &Device,
-    ) -> Result<Self> {
+    pub fn from_data(data: Vec<Option<PlainSlot>>, device: &Device) -> Result<Self> {
         let slots = data
             .into_iter()
             .map(|s| {

@@ -1,8 +1,7 @@
-//! A box of voxels of the n^3 training grid: the whole volume, or a corner crop.
+//! A box of voxels of the n^3 training grid: the whole volume, or a crop of it.
 //!
-//! Training at 2 cores cannot afford to unroll a 128^3 volume every iteration, so it unrolls
-//! crops at the cube corners (each touches three faces; DESIGN section 6 describes the trial
-//! this follows). A crop keeps its place in the grid: its voxel centres, position channels and
+//! Training at 2 cores cannot afford to unroll a whole 128^3 or 256^3 volume every iteration,
+//! so it unrolls crops that touch the faces (`placement`). A crop keeps its place in the grid: its voxel centres, position channels and
 //! conditioning are those of the full volume, so the model trained on crops is the model of
 //! the full volume. Only the replicate padding at the crop's inner sides is artificial (there
 //! the crop ends inside the wood); the faces the loss looks at are real cube faces.
@@ -13,7 +12,7 @@ use glam::Vec3;
 use super::tensors::tensor_from;
 use crate::frame::voxel_centre;
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Region {
     /// Side of the whole grid (voxels).
     pub grid: usize,
@@ -48,15 +47,6 @@ impl Region {
             grid,
             offset: [at(0), at(1), at(2)],
             dims: [crop; 3],
-        }
-    }
-
-    /// The regions an iteration may draw: the whole grid if `crop >= grid`, else the 8 corners.
-    pub fn training_regions(grid: usize, crop: usize) -> Vec<Region> {
-        if crop >= grid {
-            vec![Region::whole(grid)]
-        } else {
-            (0..8).map(|c| Region::corner(grid, crop, c)).collect()
         }
     }
 

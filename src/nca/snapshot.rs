@@ -3,7 +3,7 @@
 //! - `model.bpk`: the weights (with their parameter ids, which key the optimiser state);
 //! - `optimiser.bpk`: Adam's moments and step counts;
 //! - `pool.npy`: the pool states `[P, C, X, Y, Z]` (empty slots are zeros);
-//! - `progress.toml`: the next iteration and each pool slot's region (-1: empty);
+//! - `progress.toml`: the next iteration and each pool slot's region offset (-1: empty);
 //! - `loss.csv`: the log so far.
 //!
 //! The random draws need no saving: iteration i draws from its own stream (see `train`).
@@ -20,6 +20,7 @@ use serde::{Deserialize, Serialize};
 use super::loss_log::{LossRow, read_csv, write_csv};
 use super::model_dir::{load_weights, save_weights};
 use super::pool::Pool;
+use super::region::Region;
 use super::train::{Trainer, adam};
 use crate::config::{load_toml, write_config_copy};
 use crate::error::{Result, XylemError};
@@ -33,8 +34,9 @@ pub const SNAPSHOT_DIR: &str = "checkpoint";
 struct Progress {
     /// The next iteration to run.
     iteration: usize,
-    /// Region index of each pool slot, -1 for empty slots.
-    pool_regions: Vec<i64>,
+    /// First voxel (x, y, z) of each pool slot's region in the training grid, [-1, -1, -1]
+    /// for empty slots.
+    pool_offsets: Vec<[i64; 3]>,
     /// Shape of one pool state `[C, X, Y, Z]`.
     state_dims: [usize; 4],
 }
@@ -73,9 +75,9 @@ pub fn save(root: &Path, trainer: &Trainer, rows: &[LossRow]) -> Result<()> {
         match slot {
             Some((region, _, v)) => {
                 values[i * per..(i + 1) * per].copy_from_slice(&v);
-                regions.push(region as i64);
+                regions.push(region.offset.map(|o| o as i64));
             }
-            None => regions.push(-1),
+            None => regions.push([-1; 3]),
         }
     }
     let mut shape = vec![regions.len()];
@@ -83,7 +85,7 @@ pub fn save(root: &Path, trainer: &Trainer, rows: &[LossRow]) -> Result<()> {
     write_npy(&tmp.join("pool.npy"), &shape, &values)?;
     let progress = Progress {
         iteration: trainer.iteration,
-        pool_regions: regions,
+        pool_offsets: regions,
         state_dims,
     };
     write_config_copy(
@@ -135,31 +137,46 @@ pub fn load(root: &Path, trainer: &mut Trainer) -> Result<Vec<LossRow>> {
     let pool_path = dir.join("pool.npy");
     let (shape, values) = read_npy(&pool_path)?;
     let per = progress.state_dims.iter().product::<usize>();
-    if shape.len() != 5 || shape[0] != progress.pool_regions.len() || values.len() != shape[0] * per
+    if shape.len() != 5 || shape[0] != progress.pool_offsets.len() || values.len() != shape[0] * per
     {
         return Err(XylemError::input(
             pool_path.display().to_string(),
             format!(
                 "pool shape {shape:?} does not match progress.toml ({} slots of {:?})",
-                progress.pool_regions.len(),
+                progress.pool_offsets.len(),
                 progress.state_dims
             ),
         ));
     }
-    let slots = progress
-        .pool_regions
-        .iter()
-        .enumerate()
-        .map(|(i, &r)| {
-            (r >= 0).then(|| {
-                (
-                    r as usize,
-                    progress.state_dims,
-                    values[i * per..(i + 1) * per].to_vec(),
-                )
-            })
-        })
-        .collect();
+    let grid = trainer.config.volume.size;
+    let [_, dx, dy, dz] = progress.state_dims;
+    let dims = [dx, dy, dz];
+    let mut slots = Vec::with_capacity(progress.pool_offsets.len());
+    for (i, offset) in progress.pool_offsets.iter().enumerate() {
+        if offset.iter().all(|&o| o < 0) {
+            slots.push(None);
+            continue;
+        }
+        let inside = (0..3).all(|a| offset[a] >= 0 && offset[a] as usize + dims[a] <= grid);
+        if !inside {
+            return Err(XylemError::input(
+                dir.join("progress.toml").display().to_string(),
+                format!(
+                    "pool_offsets[{i}] = {offset:?}: expected a region of {dims:?} voxels inside the {grid}^3 training grid"
+                ),
+            ));
+        }
+        let region = Region {
+            grid,
+            offset: offset.map(|o| o as usize),
+            dims,
+        };
+        slots.push(Some((
+            region,
+            progress.state_dims,
+            values[i * per..(i + 1) * per].to_vec(),
+        )));
+    }
     trainer.pool = Pool::from_data(slots, trainer.device())?;
     trainer.iteration = progress.iteration;
     let rows = read_csv(&dir.join("loss.csv"))?;

@@ -12,7 +12,9 @@ use serde::{Deserialize, Serialize};
 
 use super::config::TrainConfig;
 use super::faces::FacePatch;
-use super::loss::{FaceLoss, MomentLoss};
+use super::guided_face_loss::GuidedFaceLoss;
+use super::loss::{FaceLoss, MomentLoss, no_target_loss};
+use super::train::TrainData;
 use crate::error::{Result, XylemError};
 use crate::image2::Image2;
 use crate::loss::{StyleLoss, StyleTargets};
@@ -26,6 +28,9 @@ pub enum FaceLossKind {
     Style,
     /// Colour and gradient moments: cheap, blind to pores and rings (tests, ablation).
     Moments,
+    /// The guided local loss (`[loss.guided]`): each patch against the photo around it,
+    /// with the ring phase as a guide.
+    Guided,
 }
 
 /// The face loss a training config asks for, with targets `[Option<Image2>; 6]` in file
@@ -33,12 +38,14 @@ pub enum FaceLossKind {
 /// use the patches this config produces (crop smaller than the loss's filters).
 pub fn face_loss(
     cfg: &TrainConfig,
-    targets: &[Option<Image2>; 6],
+    data: &TrainData,
     device: &Device,
 ) -> Result<Box<dyn FaceLoss>> {
+    let targets = &data.targets;
     Ok(match cfg.loss.face {
         FaceLossKind::Moments => Box::new(MomentLoss::new(targets, device)),
         FaceLossKind::Style => Box::new(StyleFaceLoss::new(cfg, targets, device)?),
+        FaceLossKind::Guided => Box::new(GuidedFaceLoss::new(cfg, data, device)?),
     })
 }
 
@@ -90,12 +97,7 @@ impl FaceLoss for StyleFaceLoss {
             .filter_map(|p| Some((p.image.clone(), self.pair[p.face.index()]?)))
             .unzip();
         if images.is_empty() {
-            // A crop touching only faces left out: nothing to match, no gradient.
-            let device = patches
-                .first()
-                .map(|p| p.image.device())
-                .unwrap_or_default();
-            return Tensor::zeros([1], &device);
+            return no_target_loss(patches);
         }
         self.loss
             .loss_at(&images, &self.targets, &pairs, iteration as u64)

@@ -84,6 +84,25 @@ fn synthesise_fused(
     options: &SynthOptions,
     progress: impl FnMut(usize),
 ) -> Result<Volume> {
+    let mut volumes = synthesise_at(trained, options, &[options.steps], progress)?;
+    Ok(volumes.remove(0))
+}
+
+/// One fused unroll of `options.size`^3 from the seed, returning the colour volume after
+/// each step count in `at` (ascending; `options.steps` is ignored): e.g. 24, 90 and 256
+/// steps in one run, to see whether the texture holds past the training horizon.
+pub fn synthesise_at(
+    trained: &TrainedModel,
+    options: &SynthOptions,
+    at: &[usize],
+    mut progress: impl FnMut(usize),
+) -> Result<Vec<Volume>> {
+    if at.windows(2).any(|w| w[0] > w[1]) {
+        return Err(crate::XylemError::input(
+            "synthesis step counts",
+            format!("{at:?}: expected ascending step counts"),
+        ));
+    }
     let spec = &trained.meta.spec;
     let norm = &trained.meta.normalisation;
     let region = Region::whole(options.size);
@@ -97,15 +116,30 @@ fn synthesise_fused(
     let fixed = FixedInputs::new(&region, cond, spec.cond_channels())?;
     let weights = MlpWeights::from_model(&trained.model)?;
     let stepper = Stepper::new(Isa::best(), &weights, &fixed)?;
-    let seed = seed_data(
+    let mut state = seed_data(
         spec.state_channels,
         spec.seed_amplitude,
         &region,
         options.seed,
     );
-    let state = stepper.unroll(seed, options.steps, progress);
-    // [X, Y, Z, 3] = white-balanced B + state RGB, back to photo colours.
-    let n = region.voxels();
+    let mut done = 0;
+    let mut volumes = Vec::with_capacity(at.len());
+    for &target in at {
+        state = stepper.unroll(state, target - done, |s| progress(done + s));
+        done = target;
+        volumes.push(colour_volume(&state, &colour, norm, region.dims)?);
+    }
+    Ok(volumes)
+}
+
+/// `[X, Y, Z, 3]` = white-balanced B + state RGB, back to photo colours.
+fn colour_volume(
+    state: &[f32],
+    colour: &[f32],
+    norm: &super::conditioning::Normalisation,
+    dims: [usize; 3],
+) -> Result<Volume> {
+    let n = dims.iter().product::<usize>();
     let mut data = vec![0.0f32; 3 * n];
     for (v, px) in data.chunks_exact_mut(3).enumerate() {
         for (c, value) in px.iter_mut().enumerate() {
@@ -113,5 +147,41 @@ fn synthesise_fused(
         }
         to_photo_colour(norm, px);
     }
-    Volume::from_data(region.dims, 3, data)
+    Volume::from_data(dims, 3, data)
+}
+
+/// The spread of a colour volume's values: an NCA that stays on its attractor keeps every
+/// value in [0, 1] on its own (nothing is clamped).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ValueRange {
+    pub min: f32,
+    pub max: f32,
+    /// Fraction of values below 0 or above 1.
+    pub outside: f64,
+    /// Number of values below 0 or above 1 (a fraction rounds rare ones away).
+    pub outside_count: usize,
+}
+
+impl ValueRange {
+    pub fn of(values: &[f32]) -> Self {
+        let (mut min, mut max, mut outside) = (f32::INFINITY, f32::NEG_INFINITY, 0usize);
+        for &v in values {
+            min = min.min(v);
+            max = max.max(v);
+            if !(0.0..=1.0).contains(&v) {
+                outside += 1;
+            }
+        }
+        Self {
+            min,
+            max,
+            outside: outside as f64 / values.len().max(1) as f64,
+            outside_count: outside,
+        }
+    }
+
+    /// Every value is finite and inside [0, 1].
+    pub fn in_unit_range(&self) -> bool {
+        self.outside == 0.0 && self.min.is_finite() && self.max.is_finite()
+    }
 }

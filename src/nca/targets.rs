@@ -10,6 +10,8 @@ use crate::frame::Face;
 use crate::image2::Image2;
 pub use crate::loss::white_balance;
 use crate::sample::Sample;
+use crate::slice::slice_face;
+use crate::texture::SolidTexture;
 
 /// The white-balanced targets at `size` x `size` (`None` for faces not used) and the mean
 /// photo colour of the used faces (for B's white balance, see `Normalisation`).
@@ -34,6 +36,32 @@ pub fn photo_mean(sample: &Sample) -> [f32; 3] {
         count += 1.0;
     }
     sum.map(|s| s / count.max(1.0))
+}
+
+/// Scales each target per channel so that its mean is the mean of the base colour B on that
+/// face in the NCA's colour space (`norm`): with these targets the NCA learns texture on top
+/// of B and no colour shift of its own. White-balancing each face by its own mean (DESIGN
+/// section 6) instead asks the NCA to brighten the darker end-grain faces and darken the side
+/// faces, which on CN03 left its interior cuts ~20 levels darker than the photo.
+pub fn match_base_means(
+    targets: &mut [Option<Image2>; 6],
+    colour: &dyn SolidTexture,
+    norm: &Normalisation,
+    size: usize,
+) {
+    for (face, target) in Face::ALL.iter().zip(targets.iter_mut()) {
+        let Some(target) = target else { continue };
+        let base = slice_face(colour, *face, size).channel_means();
+        let own = target.channel_means();
+        let factor: Vec<f32> = (0..3)
+            .map(|c| base[c] * norm.white_balance[c] / own[c].max(1e-6))
+            .collect();
+        for px in target.data.chunks_exact_mut(target.channels) {
+            for (v, f) in px.iter_mut().zip(&factor) {
+                *v *= f;
+            }
+        }
+    }
 }
 
 /// Undoes the white balance of `norm` on a white-balanced RGB value.

@@ -1,5 +1,5 @@
 //! One training iteration and the state it carries (DESIGN section 6):
-//! 1. draw the unroll length, the pool slot, the region (corner crop) and the seed key from
+//! 1. draw the unroll length, the pool slot, the region (a crop) and the seed key from
 //!    the iteration's own random stream (`Rng::substream(seed, iteration)`), so a resumed run
 //!    draws exactly what an uninterrupted one would;
 //! 2. start from a fresh seed or the pool slot's state;
@@ -11,24 +11,28 @@
 //!    scheduled learning rate;
 //! 5. write the final state back to the pool slot.
 
+use std::collections::HashMap;
+
 use burn::module::{Module, Param};
 use burn::optim::{AdamConfig, GradientsParams, ModuleOptimizer};
 use burn::tensor::{Device, Tensor};
 
 use super::checkpoint::{Objective, UnrollGradients, unroll_gradients};
 use super::conditioning::{Conditioning, Normalisation};
-use super::config::{Engine, TrainConfig};
-use super::faces::{FacePatch, face_patches};
+use super::config::{Engine, TargetColour, TrainConfig};
+use super::face_guides::{GUIDE_CHANNELS, phase_channels, phase_guides};
+use super::faces::{FacePatch, face_patches, inner_patches};
 use super::fit_source::FitRecord;
-use super::fused::{FixedInputs, Isa, burn_bridge};
+use super::fused::{FixedInputs, Isa, MlpWeights, Stepper, burn_bridge};
 use super::loss::FaceLoss;
 use super::loss_log::LossRow;
 use super::model::{Nca, StepInputs};
+use super::placement::draw_region;
 use super::pool::{Pool, Start};
 use super::region::Region;
-use super::targets::face_targets;
-use super::tensors::tensor_from;
-use super::unroll::seed_state;
+use super::targets::{face_targets, match_base_means};
+use super::tensors::{tensor_from, to_vec};
+use super::unroll::{seed_state, unroll};
 use crate::device::DeviceKind;
 use crate::error::Result;
 use crate::frame::Face;
@@ -38,26 +42,43 @@ use crate::sample::Sample;
 
 /// Tag of the training random streams.
 const TRAIN_STREAM: u64 = 0x4E43_415F_5452_4149; // "NCA_TRAI"
+/// Tag of the streams drawing the depths of the planes inside the crop.
+const PLANE_STREAM: u64 = 0x4E43_415F_504C_414E; // "NCA_PLAN"
 
 /// What training learns from: targets, B and G, their normalisation.
 pub struct TrainData {
     pub faces: Vec<Face>,
-    /// White-balanced targets at the training grid side (`None` for unused faces).
+    /// Targets in the NCA's colour space at the training grid side (`None` for unused faces;
+    /// see `TargetColour`).
     pub targets: [Option<Image2>; 6],
+    /// Ring-phase guides of the used faces at the same size (`face_guides`).
+    pub guides: [Option<Image2>; 6],
     pub fit: FitRecord,
     pub conditioning: Conditioning,
     pub normalisation: Normalisation,
 }
 
 impl TrainData {
-    /// Targets from the sample's photos, B and G from the fit (`fit_source::load_fit`).
-    pub fn prepare(sample: &Sample, fit: FitRecord, grid: usize) -> Self {
-        let (targets, photo_mean) = face_targets(sample, grid);
+    /// Targets from the sample's photos, B and G from the fit (`fit_source::load_fit`), at the
+    /// config's grid side and in its target colour.
+    pub fn prepare(sample: &Sample, fit: FitRecord, config: &TrainConfig) -> Self {
+        let grid = config.volume.size;
+        let (mut targets, photo_mean) = face_targets(sample, grid);
         let conditioning = fit.conditioning();
         let normalisation = conditioning.normalisation(photo_mean);
+        if config.loss.target_colour == TargetColour::Base {
+            match_base_means(
+                &mut targets,
+                conditioning.colour.as_ref(),
+                &normalisation,
+                grid,
+            );
+        }
+        let guides = phase_guides(conditioning.growth.as_ref(), &sample.faces, grid);
         Self {
             faces: sample.faces.clone(),
             targets,
+            guides,
             fit,
             conditioning,
             normalisation,
@@ -77,19 +98,30 @@ struct RegionInputs {
     step: EngineInputs,
     /// The used faces this region touches.
     faces: Vec<Face>,
-    /// Their patches of white-balanced B, `[3, h, w]` each, in the same order.
-    colour_faces: Vec<FacePatch>,
+    /// White-balanced B over the region, `[3, X, Y, Z]`.
+    colour: Tensor<4>,
+    /// Ring-phase guide over the region, `[2, X, Y, Z]` (planes inside the crop).
+    guide: Tensor<4>,
 }
 
 /// What an iteration starts from.
 struct Draw {
     steps: usize,
-    /// Index into the trainer's regions.
-    region: usize,
+    /// Steps run without gradients on a fresh seed before the iteration's unroll (0 for a
+    /// state from the pool).
+    burn_in: usize,
+    region: Region,
     /// `[C, X, Y, Z]`, no autodiff.
     start: Tensor<4>,
     /// The pool slot the result is written back to.
     slot: Option<usize>,
+}
+
+/// What the trainer keeps of the training data to build a region's inputs.
+struct RegionSource {
+    faces: Vec<Face>,
+    conditioning: Conditioning,
+    normalisation: Normalisation,
 }
 
 /// The training state: model, optimiser, pool, iteration.
@@ -102,7 +134,9 @@ pub struct Trainer {
     pub kind: DeviceKind,
     /// Instruction set of the fused kernels.
     pub isa: Isa,
-    regions: Vec<RegionInputs>,
+    source: RegionSource,
+    /// Inputs of the regions the pool holds (sampling B and G again costs ~10 ms a crop).
+    inputs: HashMap<Region, RegionInputs>,
     /// Plain device (no autodiff) for seeds and pool states.
     device: Device,
 }
@@ -118,10 +152,12 @@ impl Trainer {
         let device = kind.device();
         let model = Nca::init(&config.model, config.seed, &kind.autodiff_device());
         let optimiser = adam();
-        let regions = Region::training_regions(config.volume.size, config.volume.crop)
-            .into_iter()
-            .map(|r| region_inputs(r, config, data, &device))
-            .collect::<Result<_>>()?;
+        if data.faces.is_empty() {
+            return Err(crate::XylemError::input(
+                "training data",
+                "no face to train on",
+            ));
+        }
         Ok(Self {
             config: config.clone(),
             model,
@@ -130,7 +166,12 @@ impl Trainer {
             iteration: 0,
             kind,
             isa: Isa::best(),
-            regions,
+            source: RegionSource {
+                faces: data.faces.clone(),
+                conditioning: data.conditioning.clone(),
+                normalisation: data.normalisation.clone(),
+            },
+            inputs: HashMap::new(),
             device,
         })
     }
@@ -139,10 +180,10 @@ impl Trainer {
         &self.device
     }
 
-    /// Shape `[C, X, Y, Z]` of the states trained on (all regions have the same size).
+    /// Shape `[C, X, Y, Z]` of the states trained on (every region has the crop's size).
     pub fn state_dims(&self) -> [usize; 4] {
-        let [x, y, z] = self.regions[0].region.dims;
-        [self.config.model.state_channels, x, y, z]
+        let side = self.config.volume.crop.min(self.config.volume.size);
+        [self.config.model.state_channels, side, side, side]
     }
 
     /// The model without autodiff (for saving and synthesis).
@@ -157,28 +198,41 @@ impl Trainer {
         let [lo, hi] = cfg.schedule.steps;
         let steps = lo + rng.below(hi - lo + 1);
         let slot_draw = rng.below(self.pool.len().max(1));
-        let region_draw = rng.below(self.regions.len());
+        let v = &cfg.volume;
+        let fresh_region = draw_region(v.size, v.crop, v.placement, &self.source.faces, &mut rng);
         let seed_key = rng.next_u64();
+        let [b_lo, b_hi] = cfg.schedule.burn_in;
+        let burn_in = b_lo + rng.below(b_hi - b_lo + 1);
         let fresh = it.is_multiple_of(cfg.pool.fresh_every);
-        let (region, start, slot) = match self.pool.start(slot_draw, fresh) {
+        let (region, start, slot, burn_in) = match self.pool.start(slot_draw, fresh) {
             Start::Fresh { slot } => {
                 let seed = seed_state(
                     cfg.model.state_channels,
                     cfg.model.seed_amplitude,
-                    &self.regions[region_draw].region,
+                    &fresh_region,
                     seed_key,
                     &self.device,
                 );
-                (region_draw, seed, slot)
+                (fresh_region, seed, slot, burn_in)
             }
-            Start::Continue { slot, from } => (from.region, from.state, Some(slot)),
+            Start::Continue { slot, from } => (from.region, from.state, Some(slot), 0),
         };
         Draw {
             steps,
+            burn_in,
             region,
             start,
             slot,
         }
+    }
+
+    /// The inputs of `region`, built on first use.
+    fn region_inputs(&mut self, region: Region) -> Result<&RegionInputs> {
+        if !self.inputs.contains_key(&region) {
+            let inputs = region_inputs(region, &self.config, &self.source, &self.device)?;
+            self.inputs.insert(region, inputs);
+        }
+        Ok(&self.inputs[&region])
     }
 
     /// Runs iteration `self.iteration` and returns its log row.
@@ -186,36 +240,35 @@ impl Trainer {
         let it = self.iteration;
         let Draw {
             steps,
-            region: region_index,
+            burn_in,
+            region,
             start,
             slot,
         } = self.draw(it);
-        let cfg = &self.config;
-        let inputs = &self.regions[region_index];
-        let overflow_weight = cfg.loss.overflow;
-        let segment = cfg.memory.segment_steps;
-        let loss_of = |state| objective(state, inputs, loss, it, overflow_weight);
+        let overflow_weight = self.config.loss.overflow;
+        let segment = self.config.memory.segment_steps;
+        let (isa, device) = (self.isa, self.device.clone());
+        let model = self.model.clone();
+        let depths = plane_depths(&self.config, it);
+        let inputs = self.region_inputs(region)?;
+        let start = burn_in_state(&model, start, inputs, isa, burn_in, &device)?;
+        let loss_of = |state| objective(state, inputs, loss, it, &depths, overflow_weight);
         let out: UnrollGradients = match &inputs.step {
             EngineInputs::Burn(step) => {
-                unroll_gradients(&self.model, start, step, steps, segment, loss_of)
+                unroll_gradients(&model, start, step, steps, segment, loss_of)
             }
             EngineInputs::Fused(fixed) => burn_bridge::unroll_gradients(
-                &self.model,
-                &self.device,
-                self.isa,
-                start,
-                fixed,
-                steps,
-                segment,
-                loss_of,
+                &model, &device, isa, start, fixed, steps, segment, loss_of,
             )?,
         };
-        let lr = cfg.learning_rate(it);
+        let lr = self.config.learning_rate(it);
         let grads = normalise_gradients(&self.model, out.grads);
         self.model = self.optimiser.step(lr, self.model.clone(), grads);
         if let Some(slot) = slot {
-            self.pool.put(slot, region_index, out.final_state);
+            self.pool.put(slot, region, out.final_state);
         }
+        let kept: Vec<Region> = self.pool.regions().copied().collect();
+        self.inputs.retain(|r, _| kept.contains(r));
         self.iteration += 1;
         let term = |name: &str| {
             out.terms
@@ -238,7 +291,7 @@ impl Trainer {
 fn region_inputs(
     region: Region,
     cfg: &TrainConfig,
-    data: &TrainData,
+    data: &RegionSource,
     device: &Device,
 ) -> Result<RegionInputs> {
     let vols = data.conditioning.sample(&region);
@@ -255,32 +308,84 @@ fn region_inputs(
         }
     };
     let colour = data.normalisation.colour_tensor(&vols, device);
-    let colour_faces = face_patches(&colour, &region, &data.faces);
+    let faces = face_patches(&colour, &region, &data.faces)
+        .iter()
+        .map(|p| p.face)
+        .collect();
+    let [x, y, z] = region.dims;
+    let guide = tensor_from(
+        phase_channels(&vols.g.data),
+        [GUIDE_CHANNELS, x, y, z],
+        device,
+    );
     Ok(RegionInputs {
         region,
         step,
-        faces: colour_faces.iter().map(|p| p.face).collect(),
-        colour_faces,
+        faces,
+        colour,
+        guide,
     })
 }
 
-/// style(faces of B + state RGB) + w x mean |S - clamp(S, -1, 1)|.
+/// `steps` steps of `model` from `start` without gradients (the burn-in of a fresh seed).
+fn burn_in_state(
+    model: &Nca,
+    start: Tensor<4>,
+    inputs: &RegionInputs,
+    isa: Isa,
+    steps: usize,
+    device: &Device,
+) -> Result<Tensor<4>> {
+    if steps == 0 {
+        return Ok(start);
+    }
+    let plain = model.valid();
+    Ok(match &inputs.step {
+        EngineInputs::Burn(step) => unroll(&plain, start, step, steps, usize::MAX, |_| {}),
+        EngineInputs::Fused(fixed) => {
+            let weights = MlpWeights::from_model(&plain)?;
+            let stepper = Stepper::new(isa, &weights, fixed)?;
+            let dims = start.dims();
+            let state = stepper.unroll(to_vec(start)?, steps, |_| {});
+            tensor_from(state, dims, device)
+        }
+    })
+}
+
+/// Depths (voxels from the face) of the planes inside the crop that iteration `it` also
+/// compares with the photos: `inner_planes` of them, uniform in [1, crop - 2].
+fn plane_depths(cfg: &TrainConfig, it: usize) -> Vec<usize> {
+    let side = cfg.volume.crop.min(cfg.volume.size);
+    if side < 3 {
+        return Vec::new();
+    }
+    let mut rng = Rng::substream(cfg.seed ^ PLANE_STREAM, it as u64);
+    (0..cfg.loss.inner_planes)
+        .map(|_| 1 + rng.below(side - 2))
+        .collect()
+}
+
+/// style(faces of B + state RGB, and the planes at `depths` parallel to them)
+/// + w x mean |S - clamp(S, -1, 1)|.
 fn objective(
     state: Tensor<4>,
     inputs: &RegionInputs,
     loss: &dyn FaceLoss,
     iteration: usize,
+    depths: &[usize],
     overflow_weight: f32,
 ) -> Objective {
-    let rgb = state.clone().narrow(0, 0, 3);
-    let faces: Vec<FacePatch> = face_patches(&rgb, &inputs.region, &inputs.faces)
-        .into_iter()
-        .zip(&inputs.colour_faces)
-        .map(|(generated, colour)| FacePatch {
-            image: generated.image + colour.image.clone(),
-            ..generated
-        })
-        .collect();
+    let rgb = state.clone().narrow(0, 0, 3) + inputs.colour.clone(); // [3, X, Y, Z]
+    let mut faces: Vec<FacePatch> = face_patches(&rgb, &inputs.region, &inputs.faces);
+    for &depth in depths {
+        faces.extend(inner_patches(
+            &rgb,
+            &inputs.guide,
+            &inputs.region,
+            &inputs.faces,
+            depth,
+        ));
+    }
     let style = loss.loss(&faces, iteration);
     let overflow = (state.clone() - state.clamp(-1.0, 1.0)).abs().mean();
     let terms = vec![

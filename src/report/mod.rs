@@ -6,4 +6,4 @@ pub mod html;
 pub mod sheet;
 
 pub use html::{MetricsTable, write_report};
-pub use sheet::{Column, SHEET_ROWS, captioned_row, comparison_sheet};
+pub use sheet::{Column, SHEET_ROWS, captioned_row, comparison_sheet, row_plane};

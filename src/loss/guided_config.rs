@@ -1,0 +1,41 @@
+//! Settings of the guided local loss ([`super::guided::GuidedLoss`]): `[loss.guided]` in an
+//! NCA training config. The features themselves (pyramid, filters, projections per layer,
+//! the swd and colour weights) come from the style-loss config beside it.
+
+use serde::{Deserialize, Serialize};
+
+use crate::config::Checker;
+use crate::error::Result;
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct GuidedConfig {
+    /// Pixels of the photo around a generated patch that its statistics are compared with
+    /// (the window is the patch grown by this much on every side, clipped to the face).
+    pub margin: usize,
+    /// Weight of the guide channels (ring phase) in the joint distribution, relative to the
+    /// spread of an average feature; 0 compares plain local statistics.
+    pub guide_weight: f32,
+}
+
+impl Default for GuidedConfig {
+    fn default() -> Self {
+        Self {
+            margin: 8,
+            guide_weight: 2.0,
+        }
+    }
+}
+
+impl GuidedConfig {
+    pub fn validate(&self, check: &Checker) -> Result<()> {
+        check.count("margin", self.margin, 0, 4096, "pixels around a patch")?;
+        check.range(
+            "guide_weight",
+            self.guide_weight,
+            0.0,
+            100.0,
+            "weight of the guide channels",
+        )
+    }
+}

@@ -1,0 +1,60 @@
+//! Where the training crops of an iteration lie.
+//!
+//! `corners` is the first trial of DESIGN section 6: the 8 corner crops, each touching three
+//! faces. Measured on CN03 and the demo (docs/DESIGN.md, "NCA study") it left the face
+//! centres and most of each face out of the loss. `faces` (the default) puts a crop anywhere
+//! against a face: a face is drawn among the faces trained on, the crop lies against it and
+//! its other two axes start anywhere in the grid, so every part of every trained face is
+//! seen and crops at an edge or a corner still touch two or three faces.
+
+use serde::{Deserialize, Serialize};
+
+use super::faces::layout;
+use super::region::Region;
+use crate::frame::Face;
+use crate::rng::Rng;
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Placement {
+    /// The 8 corner crops (each touches three faces).
+    Corners,
+    /// A crop against a trained face, anywhere along it.
+    #[default]
+    Faces,
+}
+
+/// Draws the region of one iteration; `faces` are the faces trained on (not empty).
+/// The whole grid when `crop >= grid`.
+pub fn draw_region(
+    grid: usize,
+    crop: usize,
+    placement: Placement,
+    faces: &[Face],
+    rng: &mut Rng,
+) -> Region {
+    if crop >= grid {
+        return Region::whole(grid);
+    }
+    match placement {
+        Placement::Corners => Region::corner(grid, crop, rng.below(8)),
+        Placement::Faces => {
+            let face = faces[rng.below(faces.len().max(1)).min(faces.len() - 1)];
+            let (axis, high) = layout(face).normal;
+            let span = grid - crop + 1;
+            let mut offset = [0usize; 3];
+            for (a, o) in offset.iter_mut().enumerate() {
+                *o = if a == axis {
+                    if high { grid - crop } else { 0 }
+                } else {
+                    rng.below(span)
+                };
+            }
+            Region {
+                grid,
+                offset,
+                dims: [crop; 3],
+            }
+        }
+    }
+}

@@ -1,0 +1,200 @@
+//! The parts issue 12 added to make the NCA paint pores in their rings: the guided local loss
+//! (pores at the right ring phase score better than the same pores at the wrong phase), crop
+//! placement along the faces, the pore-anisotropy metric (dashes vs dots) and the pore
+//! density by ring phase.
+
+use burn::tensor::Device;
+use xylem::Image2;
+use xylem::frame::Face;
+use xylem::loss::{GuidedConfig, GuidedLoss, GuidedPatch, LossConfig, image_to_tensor};
+use xylem::metrics::anisotropy::pore_anisotropy;
+use xylem::metrics::phase_density::{PhaseDensity, curve_correlation};
+use xylem::nca::faces::layout;
+use xylem::nca::placement::{Placement, draw_region};
+use xylem::rng::{Rng, hash3, unit};
+
+/// Rings every `period` columns (G = column / period); pores (dark pixels) only in the first
+/// `early` of each ring, at hashed places; `shift` moves the pores by a fraction of a ring.
+fn ring_porous(n: usize, period: f32, early: f32, shift: f32, seed: u64) -> Image2 {
+    let mut img = Image2::filled(n, n, 3, 0.0);
+    for r in 0..n {
+        for c in 0..n {
+            let phase = (c as f32 / period + shift).rem_euclid(1.0);
+            let pore = phase < early && unit(hash3(seed, r as i32, c as i32, 0)) < 0.35;
+            let v = if pore { 0.3 } else { 0.7 };
+            img.pixel_mut(r, c).copy_from_slice(&[v, 0.8 * v, 0.6 * v]);
+        }
+    }
+    img
+}
+
+/// The phase guide (cos, sin of 2 pi G) of G = column / period.
+fn guide(n: usize, period: f32) -> Image2 {
+    let mut img = Image2::filled(n, n, 2, 0.0);
+    for r in 0..n {
+        for c in 0..n {
+            let a = std::f32::consts::TAU * c as f32 / period;
+            img.pixel_mut(r, c).copy_from_slice(&[a.cos(), a.sin()]);
+        }
+    }
+    img
+}
+
+fn small_style() -> LossConfig {
+    let mut cfg = LossConfig::default_config();
+    cfg.octaves = 2;
+    cfg.min_layer_pixels = 16;
+    cfg
+}
+
+/// Loss of a 24 px patch of `generated` at (20, 20) against the 64 px target.
+fn patch_loss(loss: &GuidedLoss, target: &Image2, generated: &Image2) -> f32 {
+    let device = Device::flex();
+    let t = loss.target(target, &guide(64, 8.0)).unwrap();
+    let patch = image_to_tensor(&generated.crop(20, 20, 24, 24).unwrap(), &device);
+    let p = GuidedPatch {
+        image: patch,
+        target: 0,
+        origin: [20, 20],
+        guide: None,
+    };
+    // Average over several calls: the random directions are redrawn per call.
+    (0..8)
+        .map(|call| {
+            loss.terms(std::slice::from_ref(&p), std::slice::from_ref(&t), call)
+                .unwrap()
+                .total
+                .into_scalar::<f32>()
+        })
+        .sum::<f32>()
+        / 8.0
+}
+
+#[test]
+fn guided_loss_prefers_pores_in_the_right_part_of_the_ring() {
+    let target = ring_porous(64, 8.0, 0.3, 0.0, 1);
+    // Same wood, other pore places: right phase vs pores moved half a ring.
+    let right = ring_porous(64, 8.0, 0.3, 0.0, 2);
+    let wrong = ring_porous(64, 8.0, 0.3, 0.5, 2);
+    let guided = GuidedLoss::new(&small_style(), &GuidedConfig::default(), &Device::flex());
+    let (good, bad) = (
+        patch_loss(&guided, &target, &right),
+        patch_loss(&guided, &target, &wrong),
+    );
+    assert!(
+        bad > 1.5 * good,
+        "guided: right phase {good}, wrong phase {bad}"
+    );
+    // Without the guide the two are nearly alike (same statistics, other places): the guide
+    // is what sees the phase.
+    let plain_cfg = GuidedConfig {
+        guide_weight: 0.0,
+        ..GuidedConfig::default()
+    };
+    let plain = GuidedLoss::new(&small_style(), &plain_cfg, &Device::flex());
+    let (p_good, p_bad) = (
+        patch_loss(&plain, &target, &right),
+        patch_loss(&plain, &target, &wrong),
+    );
+    assert!(
+        (p_bad / p_good) < 0.5 * (bad / good),
+        "unguided ratio {} vs guided {}",
+        p_bad / p_good,
+        bad / good
+    );
+}
+
+#[test]
+fn guided_loss_rejects_patches_outside_their_target() {
+    let device = Device::flex();
+    let loss = GuidedLoss::new(&small_style(), &GuidedConfig::default(), &device);
+    let t = loss
+        .target(&ring_porous(32, 8.0, 0.3, 0.0, 1), &guide(32, 8.0))
+        .unwrap();
+    let p = GuidedPatch {
+        image: image_to_tensor(&ring_porous(24, 8.0, 0.3, 0.0, 1), &device),
+        target: 0,
+        origin: [16, 0],
+        guide: None,
+    };
+    let err = loss.terms(&[p], &[t], 0).unwrap_err().to_string();
+    assert!(err.contains("patch 0") && err.contains("(16, 0)"), "{err}");
+    let mismatch = loss.target(&ring_porous(32, 8.0, 0.3, 0.0, 1), &guide(16, 8.0));
+    assert!(mismatch.is_err());
+}
+
+#[test]
+fn face_placement_touches_a_trained_face_and_reaches_everywhere() {
+    let faces = [Face::A, Face::C];
+    let mut rng = Rng::new(3);
+    let (grid, crop) = (20, 6);
+    let mut starts = std::collections::HashSet::new();
+    for _ in 0..400 {
+        let r = draw_region(grid, crop, Placement::Faces, &faces, &mut rng);
+        assert_eq!(r.dims, [crop; 3]);
+        assert!((0..3).all(|a| r.offset[a] + crop <= grid), "{r:?}");
+        assert!(
+            faces.iter().any(|&f| layout(f).touches(&r)),
+            "{r:?} touches no trained face"
+        );
+        starts.insert(r.offset);
+    }
+    // Not only the corners: many distinct places along the faces.
+    assert!(starts.len() > 100, "{} distinct crops", starts.len());
+    let corners: std::collections::HashSet<_> = (0..100)
+        .map(|_| draw_region(grid, crop, Placement::Corners, &faces, &mut rng).offset)
+        .collect();
+    assert!(corners.len() <= 8);
+    assert!(
+        corners
+            .iter()
+            .all(|o| o.iter().all(|&v| v == 0 || v == grid - crop))
+    );
+}
+
+/// Dark marks on a light ground: `len` px long vertical dashes, or single-pixel dots.
+fn marks(len: usize, seed: u64) -> Image2 {
+    let n = 256;
+    let mut img = Image2::filled(n, n, 3, 0.75);
+    let mut rng = Rng::new(seed);
+    for _ in 0..600 {
+        let (r, c) = (rng.below(n - len), rng.below(n));
+        for k in 0..len {
+            img.pixel_mut(r + k, c).copy_from_slice(&[0.3, 0.25, 0.2]);
+        }
+    }
+    img
+}
+
+#[test]
+fn anisotropy_tells_dashes_from_dots() {
+    let (dashes, dots) = (pore_anisotropy(&marks(9, 1)), pore_anisotropy(&marks(1, 1)));
+    assert!(dashes > dots + 0.25, "dashes {dashes}, dots {dots}");
+    assert!((0.0..=1.0).contains(&dashes) && (0.0..=1.0).contains(&dots));
+    assert_eq!(pore_anisotropy(&Image2::filled(64, 64, 3, 0.5)), 0.0);
+}
+
+#[test]
+fn phase_density_finds_the_pores_ring_phase() {
+    let n = 256;
+    let period = 16.0;
+    let mut growth = Image2::filled(n, n, 1, 0.0);
+    for r in 0..n {
+        for c in 0..n {
+            growth.pixel_mut(r, c)[0] = c as f32 / period;
+        }
+    }
+    let curve = |shift: f32| {
+        let mut d = PhaseDensity::new(8);
+        d.add(&ring_porous(n, period, 0.25, shift, 4), &growth)
+            .unwrap();
+        d.curve()
+    };
+    let early = curve(0.0);
+    // Pores in the first quarter of the ring: bins 0 and 1 of 8.
+    assert!(early[0] > 0.1 && early[1] > 0.1, "{early:?}");
+    assert!(early[3..].iter().all(|&v| v < 0.02), "{early:?}");
+    assert!(curve_correlation(&early, &curve(0.0)) > 0.99);
+    assert!(curve_correlation(&early, &curve(0.5)) < 0.0);
+    assert_eq!(curve_correlation(&early, &[0.2; 8]), 0.0);
+}
