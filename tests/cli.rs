@@ -284,3 +284,49 @@ fn gallery_builds_samples_from_species_presets() {
     assert!(err.contains("teak") && err.contains("chestnut"), "{err}");
     std::fs::remove_dir_all(&out).unwrap();
 }
+
+/// Issue 16 item 1: `xylem report --out` never replaces a file the user has, and refuses
+/// to write HTML under a name that is not a page (e.g. the run's own metrics.csv).
+#[test]
+fn report_keeps_existing_files() {
+    let dir = scratch("report-keep");
+    std::fs::create_dir_all(&dir).unwrap();
+    let notes = dir.join("notes.html");
+    std::fs::write(&notes, "my notes").unwrap();
+    let metrics = dir.join("metrics.csv");
+    std::fs::write(&metrics, "method,image\n").unwrap();
+    let err = run_err(
+        xylem()
+            .args(["report", "--run"])
+            .arg(&dir)
+            .arg("--out")
+            .arg(&notes),
+    );
+    assert!(
+        err.contains("notes.html") && err.contains("--force"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read_to_string(&notes).unwrap(), "my notes");
+    let err = run_err(
+        xylem()
+            .args(["report", "--run"])
+            .arg(&dir)
+            .arg("--out")
+            .arg(&metrics),
+    );
+    assert!(
+        err.contains("metrics.csv") && err.contains(".html"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read_to_string(&metrics).unwrap(), "method,image\n");
+    run_ok(
+        xylem()
+            .args(["report", "--run"])
+            .arg(&dir)
+            .arg("--out")
+            .arg(&notes)
+            .arg("--force"),
+    );
+    assert!(std::fs::read_to_string(&notes).unwrap().contains("<html"));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -3,8 +3,9 @@
 
 use std::path::PathBuf;
 
-use anyhow::Result;
+use anyhow::{Result, bail};
 use clap::Args;
+use xylem::io::check_new_file;
 use xylem::report::write_report;
 
 /// Gather a run folder's sheets, renders, loss curves and metrics table into one HTML page.
@@ -18,18 +19,39 @@ pub struct ReportArgs {
     /// The run folder (as written by `xylem demo` or `xylem run`).
     #[arg(long)]
     pub run: PathBuf,
-    /// Output HTML file (default: RUN/report/index.html).
+    /// Output HTML file (default: RUN/report/index.html, which is replaced on every call);
+    /// must end in .html or .htm; an existing file is only replaced with --force.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Replace an existing --out file.
+    #[arg(long)]
+    pub force: bool,
     /// Page title.
     #[arg(long, default_value = "xylem run")]
     pub title: String,
 }
 
 pub fn run(args: ReportArgs) -> Result<()> {
-    let out = args
-        .out
-        .unwrap_or_else(|| args.run.join("report/index.html"));
+    let default = args.run.join("report/index.html");
+    let out = match args.out {
+        // The default page is the report's own file, rewritten by every `xylem run`.
+        None => default,
+        Some(out) if out == default => out,
+        Some(out) => {
+            let html = out
+                .extension()
+                .and_then(|e| e.to_str())
+                .is_some_and(|e| e.eq_ignore_ascii_case("html") || e.eq_ignore_ascii_case("htm"));
+            if !html {
+                bail!(
+                    "--out {}: expected an .html or .htm file (the report is one HTML page)",
+                    out.display()
+                );
+            }
+            check_new_file(&out, args.force)?;
+            out
+        }
+    };
     let images = write_report(&args.run, &out, &args.title)?;
     println!("wrote {} ({images} images)", out.display());
     Ok(())
