@@ -121,6 +121,33 @@ fn demo_runs_every_stage_and_resumes_by_skipping_finished_ones() {
         .modified()
         .unwrap();
     assert_eq!(before, after, "the trained model was rewritten");
+
+    // A stage without its completion marker (killed after its first file) is redone.
+    std::fs::remove_file(run.join("synth/.done")).unwrap();
+    let log = run_ok(&mut demo());
+    assert!(log.contains("== synth\n"), "{log}");
+    assert!(run.join("synth/.done").is_file());
+
+    // Other options on the same folder are refused, naming what changed, and nothing
+    // is rewritten.
+    let out = xylem()
+        .args(["demo", "--size", "96", "--synth-steps", "3", "--nca-config"])
+        .arg(&nca)
+        .arg("--out")
+        .arg(&run)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{err}");
+    assert!(
+        err.contains("run.toml") && err.contains("synth_steps: was 2, now 3"),
+        "{err}"
+    );
+    let again = std::fs::metadata(run.join("train/model.bpk"))
+        .unwrap()
+        .modified()
+        .unwrap();
+    assert_eq!(before, again, "the trained model was rewritten");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -10,7 +10,7 @@ use clap::Args;
 use xylem::device::DeviceKind;
 use xylem::field::{BaseColourTexture, ColourSpace, FieldConfig, GrowthField, RingImage};
 use xylem::frame::Face;
-use xylem::io::{OutputDir, load_rgb, save_png, write_bytes_atomic};
+use xylem::io::{OutputDir, Provenance, load_rgb, save_png, write_bytes_atomic};
 use xylem::nca::config::Engine;
 use xylem::outputs::{CROSS_BACKGROUND, SliceSet};
 use xylem::procedural::{ProceduralWood, SpeciesConfig};
@@ -58,8 +58,10 @@ impl NcaPreset {
 
 Writes into RUN: fit/ (xylem fit), train/ (xylem train), synth/ (xylem synth), sheet.png
 (rows: faces A-F, cut1, cut2; columns: photo or truth, fitted rings, base colour,
-procedural, NCA), renders/, metrics.csv and report/index.html. Re-running the same command
-skips finished steps and resumes an interrupted training.")]
+procedural, NCA), renders/, metrics.csv, phase.csv and report/index.html. Re-running the
+same command skips finished steps and resumes an interrupted training; RUN/run.toml records
+the sample (with a hash of its files), faces, configs and options, and a call with other
+ones is refused with the differences named (use another --out).")]
 pub struct RunArgs {
     /// Sample folder (Mokume layout; a `truth/` folder, as `xylem sample` writes, adds the
     /// true cuts to the sheet and the metrics).
@@ -105,6 +107,8 @@ pub fn run(args: RunArgs) -> Result<()> {
         Some(list) => parse_faces(list)?,
         None => Face::ALL.to_vec(),
     };
+    let started = STAGES.iter().any(|d| out.path(d).exists());
+    run_provenance(&args, &faces)?.check_or_record(&out.path(RUN_RECORD), started)?;
     fit_step(&args, &out)?;
     train_step(&args, &out)?;
     synth_step(&args, &out)?;
@@ -147,22 +151,62 @@ pub fn run(args: RunArgs) -> Result<()> {
     Ok(())
 }
 
+/// What the run folder was made with (`RUN/run.toml`, compared on every re-run).
+const RUN_RECORD: &str = "run.toml";
+/// The stage folders whose results a re-run reuses.
+const STAGES: [&str; 3] = ["fit", "train", "synth"];
+/// Written into a stage folder after its last output: the stage is complete.
+const DONE: &str = ".done";
+
+/// Everything that decides the reused stages (fit, train, synth); the sheet, renders,
+/// metrics and report are redone on every call.
+fn run_provenance(args: &RunArgs, faces: &[Face]) -> Result<Provenance> {
+    let letters: Vec<String> = faces.iter().map(|f| f.letter().to_string()).collect();
+    let mut record = Provenance::default()
+        .with_folder("sample", &args.sample)?
+        .with("faces", letters.join(","))
+        .with("synth_steps", args.synth_steps.to_string())
+        .with("engine", format!("{:?}", args.engine))
+        .with("device", format!("{:?}", args.device));
+    record = match &args.nca_config {
+        Some(path) => record.with_file("nca_config", path)?,
+        None => record
+            .with("nca_config", format!("built-in {}", args.nca_preset.name()))
+            .with_text("nca_config_hash", args.nca_preset.text()),
+    };
+    Ok(match &args.fit_config {
+        Some(path) => record.with_file("fit_config", path)?,
+        None => record.with("fit_config", "built-in defaults"),
+    })
+}
+
+/// Whether the stage in `dir` finished (its completion marker exists).
+fn done(dir: &Path) -> bool {
+    dir.join(DONE).is_file()
+}
+
+fn mark_done(dir: &Path) -> Result<()> {
+    Ok(write_bytes_atomic(&dir.join(DONE), b"complete\n")?)
+}
+
 fn step(name: &str) {
     eprintln!("== {name}");
 }
 
 fn fit_step(args: &RunArgs, out: &OutputDir) -> Result<()> {
-    if out.path("fit/fit.toml").is_file() {
+    let dir = out.path("fit");
+    if done(&dir) {
         step("fit (done, skipped)");
         return Ok(());
     }
     step("fit");
     fit_cmd::run(fit_cmd::FitArgs {
         sample: args.sample.clone(),
-        out: out.path("fit"),
+        out: dir.clone(),
         faces: args.faces.clone(),
         config: args.fit_config.clone(),
-    })
+    })?;
+    mark_done(&dir)
 }
 
 fn train_step(args: &RunArgs, out: &OutputDir) -> Result<()> {
@@ -195,7 +239,8 @@ fn train_step(args: &RunArgs, out: &OutputDir) -> Result<()> {
 }
 
 fn synth_step(args: &RunArgs, out: &OutputDir) -> Result<()> {
-    if out.path("synth/volume.npy").is_file() {
+    let dir = out.path("synth");
+    if done(&dir) {
         step("synth (done, skipped)");
         return Ok(());
     }
@@ -205,10 +250,11 @@ fn synth_step(args: &RunArgs, out: &OutputDir) -> Result<()> {
         size: None,
         steps: args.synth_steps,
         seed: None,
-        out: out.path("synth"),
+        out: dir.clone(),
         device: args.device,
         engine: args.engine,
-    })
+    })?;
+    mark_done(&dir)
 }
 
 /// The species config of a synthetic sample (`truth/species.toml`), if it has one.
