@@ -221,7 +221,7 @@ fn train_step(args: &RunArgs, out: &OutputDir) -> Result<()> {
     let config = match &args.nca_config {
         Some(path) => path.clone(),
         None => {
-            let path = out.path(&format!("nca_{}.toml", args.nca_preset.name()));
+            let path = out.path(format!("nca_{}.toml", args.nca_preset.name()));
             write_bytes_atomic(&path, args.nca_preset.text().as_bytes())?;
             path
         }

@@ -33,8 +33,9 @@ pub struct Pool {
 pub enum Start {
     /// A fresh seed in a region drawn by the caller; written back to `slot` if any.
     Fresh { slot: Option<usize> },
-    /// Continue from a stored state.
-    Continue { slot: usize, from: Slot },
+    /// Continue from a stored state (boxed: a slot with its region is much larger than
+    /// the fresh variant).
+    Continue { slot: usize, from: Box<Slot> },
 }
 
 impl Pool {
@@ -61,7 +62,7 @@ impl Pool {
         match &self.slots[draw] {
             Some(s) if !fresh => Start::Continue {
                 slot: draw,
-                from: s.clone(),
+                from: Box::new(s.clone()),
             },
             _ => Start::Fresh { slot: Some(draw) },
         }
