@@ -330,3 +330,28 @@ fn report_keeps_existing_files() {
     assert!(std::fs::read_to_string(&notes).unwrap().contains("<html"));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Issue 16 item 5/6: sizes and step counts that cannot make a picture or would run for
+/// days are refused before any work, naming the flag.
+#[test]
+fn absurd_run_and_synth_options_are_refused_up_front() {
+    let dir = scratch("absurd");
+    for (args, flag) in [
+        (
+            vec!["run", "--sample", "S", "--out", "R", "--image-size", "0"],
+            "--image-size",
+        ),
+        (
+            vec!["run", "--sample", "S", "--out", "R", "--synth-steps", "0"],
+            "--synth-steps",
+        ),
+        (
+            vec!["synth", "--model", "M", "--out", "O", "--steps", "100000"],
+            "--steps",
+        ),
+    ] {
+        let err = run_err(xylem().current_dir(std::env::temp_dir()).args(&args));
+        assert!(err.contains(flag), "{args:?}: {err}");
+    }
+    assert!(!dir.exists());
+}

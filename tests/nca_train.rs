@@ -425,3 +425,48 @@ fn pool_trained_model_stays_bounded_past_its_horizon() {
     assert!(drift < 0.1, "mean |V(24) - V(6)| = {drift}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Issue 16 item 5/10: a model.toml whose grid, G range or white balance cannot give a
+/// volume is refused when loading, naming the file and the key (no panic, no inf volume).
+#[test]
+fn broken_model_files_are_clear_errors() {
+    use xylem::nca::model_dir::TrainedModel;
+    let dir = scratch("broken-model");
+    std::fs::create_dir_all(dir.join("sample")).unwrap();
+    write_sample(&dir.join("sample"));
+    let text = "seed = 4\n[model]\nhidden = 8\n[volume]\nsize = 16\ncrop = 16\n\
+                [schedule]\niterations = 1\nsteps = [2, 2]\n[pool]\nsize = 0\n\
+                [loss]\nface = \"moments\"\n";
+    let cfg = TrainConfig::parse(text, Path::new("<test>")).unwrap();
+    let data = data(&dir.join("sample"), &cfg);
+    let model = dir.join("model");
+    train(&model, &cfg, &data, &TrainOptions::default());
+    let meta = std::fs::read_to_string(model.join("model.toml")).unwrap();
+    let device = DeviceKind::Flex.device();
+    assert!(TrainedModel::load(&model, &device).is_ok());
+    let replace_line = |key: &str, line: &str| {
+        meta.lines()
+            .map(|l| if l.starts_with(key) { line } else { l })
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    for (key, line) in [
+        ("grid", "grid = 0"),
+        ("grid", "grid = 100000"),
+        ("g_range", "g_range = [1.0, 1.0]"),
+        ("white_balance", "white_balance = [0.0, 1.0, 1.0]"),
+    ] {
+        let edited = replace_line(key, line);
+        assert_ne!(edited, meta, "{key} not found in model.toml:\n{meta}");
+        std::fs::write(model.join("model.toml"), edited).unwrap();
+        let err = match TrainedModel::load(&model, &device) {
+            Ok(_) => panic!("{line} accepted"),
+            Err(e) => e.to_string(),
+        };
+        assert!(
+            err.contains("model.toml") && err.contains(key),
+            "{line}: {err}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -39,7 +39,7 @@ pub struct DemoArgs {
     #[arg(long)]
     pub nca_config: Option<PathBuf>,
     /// NCA unroll steps of the synthesis.
-    #[arg(long, default_value_t = 90)]
+    #[arg(long, default_value_t = 90, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=2048))]
     pub synth_steps: usize,
     /// CPU backend of the NCA's burn parts (optimiser, loss; the whole NCA with --engine burn).
     #[arg(long, default_value = "flex")]

@@ -87,10 +87,10 @@ pub struct RunArgs {
     #[arg(long, default_value = "chestnut")]
     pub species: String,
     /// NCA unroll steps of the synthesis (90, as the Mokume paper's inference).
-    #[arg(long, default_value_t = 90)]
+    #[arg(long, default_value_t = 90, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=2048))]
     pub synth_steps: usize,
     /// Tile size of the sheet and side of the renders, in pixels.
-    #[arg(long, default_value_t = 160)]
+    #[arg(long, default_value_t = 160, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(16..=2048))]
     pub image_size: usize,
     /// CPU backend of the NCA's burn parts (optimiser, loss; the whole NCA with --engine burn).
     #[arg(long, default_value = "flex")]

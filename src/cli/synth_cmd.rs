@@ -32,7 +32,7 @@ pub struct SynthArgs {
     #[arg(long, value_parser = clap::value_parser!(u32).range(4..=1024))]
     pub size: Option<u32>,
     /// Unroll steps (90, as the Mokume paper's inference).
-    #[arg(long, default_value_t = 90)]
+    #[arg(long, default_value_t = 90, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=2048))]
     pub steps: usize,
     /// Seed of the initial state (default: the training seed).
     #[arg(long)]

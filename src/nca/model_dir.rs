@@ -91,8 +91,33 @@ impl ModelMeta {
     pub fn load(dir: &Path) -> Result<Self> {
         let path = dir.join(META_FILE);
         let meta: ModelMeta = load_toml(&path)?;
-        meta.spec.validate(&Checker::new(&path).nested("spec"))?;
+        meta.validate(&Checker::new(&path))?;
         Ok(meta)
+    }
+
+    /// Every value a synthesis relies on: a grid a volume can have (the training configs'
+    /// bounds), a finite, increasing G range and positive, finite white-balance factors (a
+    /// zero factor would divide the volume by zero).
+    fn validate(&self, check: &Checker) -> Result<()> {
+        self.spec.validate(&check.nested("spec"))?;
+        check.count("grid", self.grid, 4, 1024, "training grid side")?;
+        let n = check.nested("normalisation");
+        let [lo, hi] = self.normalisation.g_range;
+        if !(lo.is_finite() && hi.is_finite() && hi > lo) {
+            return Err(n.error(
+                "g_range",
+                format!("= [{lo}, {hi}]: expected [low, high], finite, with low < high"),
+            ));
+        }
+        for (c, &w) in self.normalisation.white_balance.iter().enumerate() {
+            n.positive(
+                &format!("white_balance[{c}]"),
+                w,
+                1e3,
+                "factor from photo to white-balanced colour",
+            )?;
+        }
+        Ok(())
     }
 }
 
