@@ -12,21 +12,65 @@ use crate::io::write_bytes_atomic;
 
 /// Reads and parses a TOML file into `T`. Parse errors (syntax, unknown key, wrong type)
 /// carry the parser's message, which names the key and the line.
-pub fn load_toml<T: DeserializeOwned>(path: &Path) -> Result<T> {
+pub fn load_toml<T: DeserializeOwned + Serialize>(path: &Path) -> Result<T> {
     let text = std::fs::read_to_string(path).map_err(|e| XylemError::io(path, e))?;
     parse_toml(&text, path)
 }
 
-/// Parses TOML text; `origin` names the source in error messages.
-pub fn parse_toml<T: DeserializeOwned>(text: &str, origin: &Path) -> Result<T> {
-    toml::from_str(text).map_err(|e| XylemError::ConfigParse {
+/// Parses TOML text; `origin` names the source in error messages. An array longer or
+/// shorter than its field (`steps = [12, 15, 19]` for a `[min, max]`) is an error: serde
+/// fills fixed-size arrays from the first elements and drops the rest silently, so the
+/// parsed value is written back to TOML and every array's length compared with the text's.
+pub fn parse_toml<T: DeserializeOwned + Serialize>(text: &str, origin: &Path) -> Result<T> {
+    let parse_error = |message: String| XylemError::ConfigParse {
         path: origin.to_path_buf(),
-        message: e.to_string().trim_end().to_string(),
-    })
+        message,
+    };
+    let value: T =
+        toml::from_str(text).map_err(|e| parse_error(e.to_string().trim_end().to_string()))?;
+    let given: toml::Value =
+        toml::from_str(text).map_err(|e| parse_error(e.to_string().trim_end().to_string()))?;
+    let kept = toml::Value::try_from(&value).map_err(|e| parse_error(e.to_string()))?;
+    match array_length_mismatch(&given, &kept, "") {
+        Some((key, got, expected)) => Err(parse_error(format!(
+            "{key}: {got} values given, expected {expected}"
+        ))),
+        None => Ok(value),
+    }
+}
+
+/// The first array of `given` whose counterpart in `kept` has another length, as (dotted
+/// key, given length, kept length). Keys `kept` lacks (not written back) are not checked.
+fn array_length_mismatch(
+    given: &toml::Value,
+    kept: &toml::Value,
+    key: &str,
+) -> Option<(String, usize, usize)> {
+    use toml::Value;
+    match (given, kept) {
+        (Value::Table(g), Value::Table(k)) => g.iter().find_map(|(name, gv)| {
+            let sub = if key.is_empty() {
+                name.clone()
+            } else {
+                format!("{key}.{name}")
+            };
+            k.get(name)
+                .and_then(|kv| array_length_mismatch(gv, kv, &sub))
+        }),
+        (Value::Array(g), Value::Array(k)) if g.len() != k.len() => {
+            Some((key.to_string(), g.len(), k.len()))
+        }
+        (Value::Array(g), Value::Array(k)) => g
+            .iter()
+            .zip(k)
+            .enumerate()
+            .find_map(|(i, (gv, kv))| array_length_mismatch(gv, kv, &format!("{key}[{i}]"))),
+        _ => None,
+    }
 }
 
 /// Reads, parses and validates a config file: `validate` gets a checker naming `path`.
-pub fn load_checked<T: DeserializeOwned>(
+pub fn load_checked<T: DeserializeOwned + Serialize>(
     path: &Path,
     validate: impl FnOnce(&T, &Checker) -> Result<()>,
 ) -> Result<T> {
@@ -36,7 +80,7 @@ pub fn load_checked<T: DeserializeOwned>(
 }
 
 /// Parses and validates TOML text; `origin` names the source in error messages.
-pub fn parse_checked<T: DeserializeOwned>(
+pub fn parse_checked<T: DeserializeOwned + Serialize>(
     text: &str,
     origin: &Path,
     validate: impl FnOnce(&T, &Checker) -> Result<()>,

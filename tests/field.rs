@@ -326,6 +326,17 @@ fn unknown_keys_and_bad_values_are_errors_naming_the_key() {
     let msg = parse(&bad_knot).unwrap_err().to_string();
     assert!(msg.contains("knots[0].speed"), "{msg}");
 
+    // Issue 16 item 7: arrays longer than their field are errors, not truncated.
+    let four = MINIMAL.replace("[0.0, 1.0, 0.1]", "[0.0, 1.0, 0.1, 5.0]");
+    let msg = parse(&four).unwrap_err().to_string();
+    assert!(
+        msg.contains("pith.direction: 4 values given, expected 3"),
+        "{msg}"
+    );
+    let long_grid = format!("{MINIMAL}grid = [2, 4, 2, 8]\nrates = [1.0, 2.0]\n");
+    let msg = parse(&long_grid).unwrap_err().to_string();
+    assert!(msg.contains("growth.grid: 4 values given"), "{msg}");
+
     let wrong_type = MINIMAL.replace("12.0", "\"twelve\"");
     assert!(
         parse(&wrong_type)

@@ -103,6 +103,15 @@ fn shipped_configs_load() {
         err.contains("bad.toml") && err.contains("volume.crop"),
         "{err}"
     );
+    // Issue 16 item 7: serde would train [12, 15, 19] as [12, 15].
+    let three = "seed = 1\n[volume]\nsize = 16\ncrop = 8\n[schedule]\niterations = 3\nsteps = [12, 15, 19]\n[pool]\nsize = 0\n";
+    let err = TrainConfig::parse(three, Path::new("three.toml"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("three.toml") && err.contains("schedule.steps: 3 values given, expected 2"),
+        "{err}"
+    );
 }
 
 #[test]
