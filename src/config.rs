@@ -187,13 +187,15 @@ impl Checker {
 
     /// A direction: finite, not (nearly) zero.
     pub fn direction(&self, key: &str, v: [f32; 3]) -> Result<()> {
+        // Bounded components: the squared length of [1e30, 1e30, 0] overflows f32 and the
+        // direction would silently become another one.
         let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-        if v.iter().all(|x| x.is_finite()) && len > 1e-6 {
+        if v.iter().all(|x| x.is_finite() && x.abs() <= 1e6) && len > 1e-6 {
             Ok(())
         } else {
             Err(self.error(
                 key,
-                format!("= {v:?}: expected a direction [x, y, z], finite and not zero (need not be normalised)"),
+                format!("= {v:?}: expected a direction [x, y, z], components within +-1e6, not zero (need not be normalised)"),
             ))
         }
     }

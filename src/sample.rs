@@ -85,6 +85,7 @@ impl Sample {
                 let path = dir.join(format!("{face}_col.png"));
                 let img = require(&path, load_rgb)?;
                 sample.check_size(&img, &path)?;
+                check_photo_content(&img, &path)?;
                 sample.photos[face.index()] = Some(img);
             }
             if needs.arl {
@@ -109,6 +110,16 @@ impl Sample {
                 path,
                 format!(
                     "is {}x{}; face images must be square",
+                    img.width, img.height
+                ),
+            ));
+        }
+        if img.width < MIN_SIDE {
+            return Err(XylemError::image(
+                path,
+                format!(
+                    "is {}x{}; face images must be at least {MIN_SIDE}x{MIN_SIDE} pixels \
+                     (the fit and the losses need rings and pores to look at)",
                     img.width, img.height
                 ),
             ));
@@ -240,4 +251,46 @@ pub fn parse_faces(list: &str) -> Result<Vec<Face>> {
     }
     faces.sort();
     Ok(faces)
+}
+
+/// Smallest face image side accepted.
+const MIN_SIDE: usize = 16;
+
+/// A photo to learn colour from: not black (white balance divides by its mean colour) and
+/// not one flat colour (nothing to fit or imitate).
+fn check_photo_content(img: &Image2, path: &Path) -> Result<()> {
+    let n = (img.width * img.height) as f64;
+    let mut mean = [0.0f64; 3];
+    for px in img.data.chunks_exact(3) {
+        for c in 0..3 {
+            mean[c] += f64::from(px[c]) / n;
+        }
+    }
+    if mean.iter().any(|&m| m < 0.02) {
+        return Err(XylemError::image(
+            path,
+            format!(
+                "has mean colour {:.3}/{:.3}/{:.3}: a channel is (nearly) black; expected a \
+                 lit photo of a wooden face",
+                mean[0], mean[1], mean[2]
+            ),
+        ));
+    }
+    let spread = img
+        .data
+        .chunks_exact(3)
+        .map(|px| {
+            (0..3)
+                .map(|c| (f64::from(px[c]) - mean[c]).abs())
+                .sum::<f64>()
+        })
+        .sum::<f64>()
+        / n;
+    if spread < 1e-3 {
+        return Err(XylemError::image(
+            path,
+            "is one flat colour; expected a photo of a wooden face with rings",
+        ));
+    }
+    Ok(())
 }

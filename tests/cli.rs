@@ -256,7 +256,7 @@ fn gallery_builds_samples_from_species_presets() {
             .args([
                 "gallery",
                 "--size",
-                "8",
+                "16",
                 "--species",
                 "chestnut,softwood",
                 "--out",
@@ -266,7 +266,7 @@ fn gallery_builds_samples_from_species_presets() {
     for species in ["chestnut", "softwood"] {
         let dir = out.join(species);
         let cross = image::open(dir.join("unfolded.png")).unwrap();
-        assert_eq!((cross.width(), cross.height()), (32, 24));
+        assert_eq!((cross.width(), cross.height()), (64, 48));
         for f in [
             "unfolded_arl.png",
             "cuts.png",
@@ -278,7 +278,7 @@ fn gallery_builds_samples_from_species_presets() {
     }
     let err = run_err(
         xylem()
-            .args(["gallery", "--size", "8", "--species", "teak", "--out"])
+            .args(["gallery", "--size", "16", "--species", "teak", "--out"])
             .arg(out.join("x")),
     );
     assert!(err.contains("teak") && err.contains("chestnut"), "{err}");

@@ -333,6 +333,13 @@ fn unknown_keys_and_bad_values_are_errors_naming_the_key() {
         msg.contains("pith.direction: 4 values given, expected 3"),
         "{msg}"
     );
+    // Issue 16 item 8: a huge direction overflowed its length and became another one.
+    let huge = MINIMAL.replace("[0.0, 1.0, 0.1]", "[1e30, 1e30, 0.0]");
+    let msg = parse(&huge).unwrap_err().to_string();
+    assert!(
+        msg.contains("pith.direction") && msg.contains("1e6"),
+        "{msg}"
+    );
     let long_grid = format!("{MINIMAL}grid = [2, 4, 2, 8]\nrates = [1.0, 2.0]\n");
     let msg = parse(&long_grid).unwrap_err().to_string();
     assert!(msg.contains("growth.grid: 4 values given"), "{msg}");

@@ -68,6 +68,19 @@ fn broken_sample_folders_are_clear_errors() {
         err.contains("E_arl-unet.png") && err.contains("100x100") && err.contains("256x256"),
         "{err}"
     );
+    // Issue 16 item 9: black, flat and tiny photos are refused, naming the file.
+    let photo = |rgb: [u8; 3], side: u32| image::RgbImage::from_pixel(side, side, image::Rgb(rgb));
+    for (img, expected) in [
+        (photo([0, 0, 0], 256), "black"),
+        (photo([180, 150, 120], 256), "flat"),
+        (photo([180, 150, 120], 1), "at least 16x16"),
+    ] {
+        img.save(tmp.join("B_col.png")).unwrap();
+        let err = Sample::load(&tmp, &parse_faces("B").unwrap(), ALL)
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("B_col.png") && err.contains(expected), "{err}");
+    }
     assert!(
         parse_faces("A,G")
             .unwrap_err()

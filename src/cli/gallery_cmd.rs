@@ -31,7 +31,7 @@ pub struct GalleryArgs {
     #[arg(long, default_value = "out/gallery")]
     pub out: PathBuf,
     /// Image side in pixels.
-    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(2..=4096))]
+    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(16..=4096))]
     pub size: u32,
     /// Species presets to render, comma-separated (default: all).
     #[arg(long, value_delimiter = ',')]
