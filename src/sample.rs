@@ -98,7 +98,19 @@ impl Sample {
             if knot.is_file() {
                 let img = load_gray(&knot)?;
                 sample.check_size(&img, &knot)?;
-                sample.knot_markers.extend(find_markers(&img, face));
+                let markers = find_markers(&img, face);
+                if markers.len() > MAX_MARKERS_PER_FACE {
+                    return Err(XylemError::image(
+                        &knot,
+                        format!(
+                            "holds {} marker spots; expected at most {MAX_MARKERS_PER_FACE} \
+                             (one small spot of one grey level per knot on a white image): \
+                             stray non-white pixels each count as a knot, remove them",
+                            markers.len()
+                        ),
+                    ));
+                }
+                sample.knot_markers.extend(markers);
             }
         }
         Ok(sample)
@@ -252,6 +264,10 @@ pub fn parse_faces(list: &str) -> Result<Vec<Face>> {
     faces.sort();
     Ok(faces)
 }
+
+/// Knot markers accepted per face: each marker becomes a knot of the fit, whose cost grows
+/// quickly with their number (5 stray pixels made a 7 s fit take 108 s).
+const MAX_MARKERS_PER_FACE: usize = 8;
 
 /// Smallest face image side accepted.
 const MIN_SIDE: usize = 16;

@@ -81,6 +81,19 @@ fn broken_sample_folders_are_clear_errors() {
             .to_string();
         assert!(err.contains("B_col.png") && err.contains(expected), "{err}");
     }
+    // Issue 16 item 6: stray pixels in a knot image are refused, not fitted as knots.
+    let mut knots = image::GrayImage::from_pixel(256, 256, image::Luma([255]));
+    for i in 0..12 {
+        knots.put_pixel(10 + 20 * i, 30, image::Luma([100]));
+    }
+    knots.save(tmp.join("A_knot.png")).unwrap();
+    let err = Sample::load(&tmp, &parse_faces("A").unwrap(), ALL)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("A_knot.png") && err.contains("12 marker spots"),
+        "{err}"
+    );
     assert!(
         parse_faces("A,G")
             .unwrap_err()
