@@ -347,7 +347,10 @@ fn unknown_keys_and_bad_values_are_errors_naming_the_key() {
     let knot = "[[knots]]\norigin = [0.0, 0.0, -2.5]\ndirection = [0.0, 0.0, 1.0]\n";
     let many = format!("{MINIMAL}{}", knot.repeat(65));
     let msg = parse(&many).unwrap_err().to_string();
-    assert!(msg.contains("number of [[knots]]") && msg.contains("65"), "{msg}");
+    assert!(
+        msg.contains("number of [[knots]]") && msg.contains("65"),
+        "{msg}"
+    );
 
     let wrong_type = MINIMAL.replace("12.0", "\"twelve\"");
     assert!(

@@ -232,6 +232,30 @@ fn npy_round_trip_keeps_shape_values_and_axis_order() {
         .unwrap_err()
         .to_string();
     assert!(err.contains("bad.npy") && err.contains("NUMPY"), "{err}");
+    // Issue 16 items 5 and 11: crafted headers are refused, not read as something else.
+    let crafted = |dict: &str| {
+        let mut text = dict.to_string();
+        while (10 + text.len() + 1) % 64 != 0 {
+            text.push(' ');
+        }
+        text.push('\n');
+        let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
+        bytes.extend_from_slice(&(text.len() as u16).to_le_bytes());
+        bytes.extend_from_slice(text.as_bytes());
+        let path = dir.join("crafted.npy");
+        std::fs::write(&path, bytes).unwrap();
+        xylem::io::npy::read_volume(&path).unwrap_err().to_string()
+    };
+    let err = crafted(
+        "{'descr': '<f4', 'fortran_order': False, 'shape': (4611686018427387904, 4, 1, 1), }",
+    );
+    assert!(err.contains("too large"), "{err}");
+    let err = crafted("{'descr': '<f8', 'fortran_order': False, 'shape': (1, 1, 1, 3), }");
+    assert!(err.contains("float32"), "{err}");
+    let err = crafted(
+        "{'descr': '<f8', 'x': '<f4', 'descr': '<f4', 'fortran_order': False, 'shape': (1, 1, 1, 3), }",
+    );
+    assert!(err.contains("float32"), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

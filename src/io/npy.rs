@@ -59,13 +59,13 @@ fn bad(path: &Path, message: impl Into<String>) -> XylemError {
 
 /// Parses the header dictionary: only little-endian float32 in C order is accepted.
 fn parse_header(path: &Path, text: &str) -> Result<Vec<usize>> {
-    if !text.contains("'descr': '<f4'") {
+    if header_value(text, "descr") != Some("'<f4'") {
         return Err(bad(
             path,
             format!("npy dtype must be little-endian float32 ('<f4'); header is {text:?}"),
         ));
     }
-    if !text.contains("'fortran_order': False") {
+    if header_value(text, "fortran_order") != Some("False") {
         return Err(bad(
             path,
             "npy array must be in C order (fortran_order False)",
@@ -88,6 +88,20 @@ fn parse_header(path: &Path, text: &str) -> Result<Vec<usize>> {
                 .map_err(|_| bad(path, format!("npy shape entry {s:?} is not a size")))
         })
         .collect()
+}
+
+/// The literal after `'key': ` in a header dictionary, up to the next `,` or `}` (the
+/// whole value, so `'<f4'` does not match a crafted `'<f4x'` or a key inside a string).
+fn header_value<'a>(text: &'a str, key: &str) -> Option<&'a str> {
+    let pattern = format!("'{key}': ");
+    let mut found = text.match_indices(&pattern);
+    let (at, _) = found.next()?;
+    if found.next().is_some() {
+        return None; // a key given twice is not a header numpy writes
+    }
+    let rest = &text[at + pattern.len()..];
+    let end = rest.find([',', '}'])?;
+    Some(rest[..end].trim())
 }
 
 /// Reads a float32 `.npy` file: (shape, data).
@@ -115,8 +129,13 @@ pub fn read_npy(path: &Path) -> Result<(Vec<usize>, Vec<f32>)> {
     }
     let text = String::from_utf8_lossy(&bytes[offset..data_start]);
     let shape = parse_header(path, &text)?;
-    let count: usize = shape.iter().product();
     let payload = &bytes[data_start..];
+    // Checked: a crafted shape whose product wraps around would pass as an empty array.
+    let count = shape
+        .iter()
+        .try_fold(4usize, |acc, &d| acc.checked_mul(d))
+        .ok_or_else(|| bad(path, format!("npy shape {shape:?} is too large to address")))?
+        / 4;
     if payload.len() != count * 4 {
         return Err(bad(
             path,
