@@ -309,6 +309,31 @@ fn cli_trains_resumes_and_synthesises_on_ndarray_and_flex() {
             "3",
         ];
         run_ok(&mut train(&first));
+        // Issue 16 item 3: resuming on other photos is refused.
+        let other = dir.join("other-sample");
+        std::fs::create_dir_all(&other).unwrap();
+        for entry in std::fs::read_dir(dir.join("sample")).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_file() {
+                std::fs::copy(&path, other.join(path.file_name().unwrap())).unwrap();
+            }
+        }
+        let mut photo = image::open(other.join("A_col.png")).unwrap().to_rgb8();
+        photo.put_pixel(0, 0, image::Rgb([0, 0, 0]));
+        photo.save(other.join("A_col.png")).unwrap();
+        let mut elsewhere = xylem();
+        elsewhere
+            .args(["train", "--device", device, "--resume", "--sample"])
+            .arg(&other)
+            .arg("--out")
+            .arg(&model);
+        let out = elsewhere.output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "resumed on other photos");
+        assert!(
+            err.contains("sample.toml") && err.contains("sample_hash"),
+            "{err}"
+        );
         run_ok(&mut train(&["--resume"]));
         let csv = std::fs::read_to_string(model.join("loss.csv")).unwrap();
         assert_eq!(csv.lines().count(), 5, "header + 4 iterations:\n{csv}");

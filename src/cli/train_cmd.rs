@@ -7,7 +7,7 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use xylem::device::DeviceKind;
 use xylem::frame::Face;
-use xylem::io::OutputDir;
+use xylem::io::{OutputDir, Provenance};
 use xylem::nca::TrainConfig;
 use xylem::nca::face_loss;
 use xylem::nca::fit_source::{FIT_FILE, FitRecord, load_fit};
@@ -61,6 +61,21 @@ pub struct TrainArgs {
     pub stop_after: Option<usize>,
 }
 
+/// The photos a training uses (`OUT/sample.toml`: the sample folder and a hash of its files).
+/// A fresh run records them; `--resume` must be given the same photos, or the rest of the
+/// training would learn other wood under the same model.
+const SAMPLE_RECORD: &str = "sample.toml";
+
+fn check_sample_record(args: &TrainArgs, out: &OutputDir) -> Result<()> {
+    let record = Provenance::default().with_folder("sample", &args.sample)?;
+    let path = out.path(SAMPLE_RECORD);
+    if !args.resume {
+        let _ = std::fs::remove_file(&path); // a fresh run replaces the record
+    }
+    record.check_or_record(&path, args.resume)?;
+    Ok(())
+}
+
 pub fn run(args: TrainArgs) -> Result<()> {
     if args.resume && !xylem::nca::snapshot::exists(&args.out) {
         bail!(
@@ -109,6 +124,7 @@ pub fn run(args: TrainArgs) -> Result<()> {
         arl: false,
     };
     let sample = Sample::load(&args.sample, &faces, needs)?;
+    check_sample_record(&args, &out)?;
     let fit = match fit {
         Some(f) => f,
         None => {
