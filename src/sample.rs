@@ -169,6 +169,12 @@ impl Sample {
 }
 
 fn require(path: &Path, load: fn(&Path) -> Result<Image2>) -> Result<Image2> {
+    if path.exists() && !path.is_file() {
+        return Err(XylemError::sample(
+            path,
+            "is not a regular file (a folder, FIFO or device); expected a PNG face image",
+        ));
+    }
     if !path.is_file() {
         return Err(XylemError::sample(path, "missing face image"));
     }

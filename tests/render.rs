@@ -143,6 +143,19 @@ fn bad_meshes_are_clear_errors() {
         err.contains("empty.obj") && err.contains("no faces"),
         "{err}"
     );
+    // Issue 16 item 11: a NaN vertex is an error, not an empty picture.
+    std::fs::write(
+        dir.join("nan.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n",
+    )
+    .unwrap();
+    match TriMesh::load_obj(&dir.join("nan.obj")) {
+        Ok(_) => panic!("a NaN vertex was accepted"),
+        Err(e) => {
+            let err = e.to_string();
+            assert!(err.contains("nan.obj") && err.contains("finite"), "{err}");
+        }
+    }
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -51,6 +51,13 @@ fn broken_sample_folders_are_clear_errors() {
         err.contains("D_col.png") && err.contains("missing"),
         "{err}"
     );
+    std::fs::create_dir(tmp.join("D_col.png")).unwrap();
+    let err = Sample::load(&tmp, &Face::ALL, ALL).unwrap_err().to_string();
+    assert!(
+        err.contains("D_col.png") && err.contains("not a regular file"),
+        "{err}"
+    );
+    std::fs::remove_dir(tmp.join("D_col.png")).unwrap();
     // A subset without D loads.
     Sample::load(&tmp, &parse_faces("A,B,C,E,F").unwrap(), ALL).unwrap();
     // An ARL image of another size.

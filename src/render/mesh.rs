@@ -84,6 +84,18 @@ impl TriMesh {
                 "OBJ file has no faces",
             ));
         }
+        // A NaN or infinite vertex poisons the bounds that place the mesh in the cube, and
+        // the render would silently show only the background.
+        if let Some(i) = mesh.positions.iter().position(|p| !p.is_finite()) {
+            return Err(XylemError::input(
+                path.display().to_string(),
+                format!(
+                    "vertex {} is {:?}: expected finite coordinates",
+                    i + 1,
+                    mesh.positions[i].to_array()
+                ),
+            ));
+        }
         Ok(mesh)
     }
 
