@@ -153,6 +153,12 @@ fn report_opens_in_headless_chromium_with_every_image() {
 fn bad_metrics_tables_are_clear_errors() {
     let dir = common::scratch("metrics");
     std::fs::create_dir_all(&dir).unwrap();
+    // Issue 16 item 11: a folder without run outputs (e.g. a sample) is not reported on.
+    let err = write_report(&dir, &dir.join("r/index.html"), "x")
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("no run outputs"), "{err}");
+    assert!(!dir.join("r/index.html").exists());
     std::fs::write(dir.join("metrics.csv"), "method,image,swd\nnca,cut1\n").unwrap();
     let err = write_report(&dir, &dir.join("r/index.html"), "x")
         .unwrap_err()

@@ -209,6 +209,13 @@ pub fn write_report(run: &Path, out: &Path, title: &str) -> Result<usize> {
             count += 1;
         }
     }
+    if count == 0 && !metrics.is_file() {
+        return Err(XylemError::input(
+            run.display().to_string(),
+            "holds no run outputs (metrics.csv, sheet.png, renders/, train/loss.png); expected \
+             a folder written by `xylem run` or `xylem demo`",
+        ));
+    }
     html += "</body></html>\n";
     write_bytes_atomic(out, html.as_bytes())?;
     Ok(count)
