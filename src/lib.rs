@@ -38,6 +38,7 @@ pub mod frame;
 pub mod image2;
 pub mod io;
 pub mod loss;
+pub mod memory;
 pub mod metrics;
 pub mod nca;
 pub mod outputs;

@@ -477,7 +477,25 @@ fn broken_model_files_are_clear_errors() {
     train(&model, &cfg, &data, &TrainOptions::default());
     let meta = std::fs::read_to_string(model.join("model.toml")).unwrap();
     let device = DeviceKind::Flex.device();
-    assert!(TrainedModel::load(&model, &device).is_ok());
+    let trained = TrainedModel::load(&model, &device).unwrap();
+    // Issue 16 item 5: a volume the machine cannot hold is refused with the estimate.
+    for engine in [Engine::Fused, Engine::Burn] {
+        let options = xylem::nca::synth::SynthOptions {
+            size: 1024,
+            steps: 1,
+            seed: 1,
+            slab_voxels: 1 << 18,
+            engine,
+        };
+        let err = match xylem::nca::synth::synthesise(&trained, &options, &device, |_| {}) {
+            Ok(_) => panic!("a 1024^3 synthesis was started"),
+            Err(e) => e.to_string(),
+        };
+        assert!(
+            err.contains("synthesis size") && err.contains("needs ~"),
+            "{err}"
+        );
+    }
     let replace_line = |key: &str, line: &str| {
         meta.lines()
             .map(|l| if l.starts_with(key) { line } else { l })
@@ -502,5 +520,32 @@ fn broken_model_files_are_clear_errors() {
             "{line}: {err}"
         );
     }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 16 item 5: a crop whose autodiff tape cannot fit in memory is refused before
+/// training, with the estimate.
+#[test]
+fn training_that_cannot_fit_in_memory_is_refused_with_an_estimate() {
+    let dir = scratch("too-big");
+    std::fs::create_dir_all(dir.join("sample")).unwrap();
+    write_sample(&dir.join("sample"));
+    let small = "seed = 1\n[model]\nhidden = 8\n[volume]\nsize = 16\ncrop = 16\n\
+                 [schedule]\niterations = 1\nsteps = [8, 16]\n[pool]\nsize = 0\n\
+                 [loss]\nface = \"moments\"\n";
+    let mut cfg = TrainConfig::parse(small, Path::new("<test>")).unwrap();
+    let data = data(&dir.join("sample"), &cfg);
+    assert!(Trainer::new(&cfg, &data, DeviceKind::Flex).is_ok());
+    // The same data with the crop of a 1024^3 grid: ~24 TB of tape.
+    cfg.volume.size = 1024;
+    cfg.volume.crop = 1024;
+    let err = match Trainer::new(&cfg, &data, DeviceKind::Flex) {
+        Ok(_) => panic!("a 1024^3 crop was accepted"),
+        Err(e) => e.to_string(),
+    };
+    assert!(
+        err.contains("[volume] crop") && err.contains("needs ~") && err.contains("GB"),
+        "{err}"
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }

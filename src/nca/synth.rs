@@ -38,6 +38,15 @@ pub struct SynthOptions {
     pub engine: Engine,
 }
 
+/// Refuses a volume the machine cannot hold while it unrolls.
+fn check_synthesis_memory(size: usize) -> Result<()> {
+    crate::memory::check_fits(
+        "synthesis size",
+        crate::memory::synthesis_bytes(size),
+        &format!("a {size}^3 volume; use a smaller --size"),
+    )
+}
+
 /// Unrolls `trained` into an RGB volume (photo colours), calling `progress(step)`.
 pub fn synthesise(
     trained: &TrainedModel,
@@ -48,6 +57,7 @@ pub fn synthesise(
     if options.engine == Engine::Fused {
         return synthesise_fused(trained, options, progress);
     }
+    check_synthesis_memory(options.size)?;
     let spec = &trained.meta.spec;
     let norm = &trained.meta.normalisation;
     let region = Region::whole(options.size);
@@ -97,6 +107,7 @@ pub fn synthesise_at(
     at: &[usize],
     mut progress: impl FnMut(usize),
 ) -> Result<Vec<Volume>> {
+    check_synthesis_memory(options.size)?;
     if at.windows(2).any(|w| w[0] > w[1]) {
         return Err(crate::XylemError::input(
             "synthesis step counts",

@@ -158,6 +158,7 @@ impl Trainer {
                 "no face to train on",
             ));
         }
+        check_training_memory(config)?;
         Ok(Self {
             config: config.clone(),
             model,
@@ -285,6 +286,26 @@ impl Trainer {
             learning_rate: lr,
         })
     }
+}
+
+/// Refuses a crop and unroll whose autodiff tape would not fit in memory.
+fn check_training_memory(config: &TrainConfig) -> Result<()> {
+    let crop = config.volume.crop.min(config.volume.size);
+    let [_, longest] = config.schedule.steps;
+    let segment = config.memory.segment_steps;
+    let tape = if segment == 0 {
+        longest
+    } else {
+        segment.min(longest)
+    };
+    crate::memory::check_fits(
+        "training config [volume] crop",
+        crate::memory::training_bytes(crop, tape.max(1)),
+        &format!(
+            "{crop}^3 crops with {tape} steps on the tape; use a smaller crop or set \
+             [memory] segment_steps"
+        ),
+    )
 }
 
 /// Conditioning, positions and B's face patches of one region.
