@@ -29,6 +29,7 @@ fn trained(spec: &ModelSpec, fit: FitRecord, device: &Device) -> TrainedModel {
             seed: 1,
             faces: Face::ALL.to_vec(),
             iterations: 0,
+            weights_hash: None,
         },
         model: Nca::init(spec, 1, device),
         fit,

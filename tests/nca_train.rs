@@ -309,6 +309,29 @@ fn cli_trains_resumes_and_synthesises_on_ndarray_and_flex() {
             "3",
         ];
         run_ok(&mut train(&first));
+        // Issue 16 item 10: a checkpoint past the config's iterations is refused.
+        let progress = model.join("checkpoint/progress.toml");
+        let saved = std::fs::read_to_string(&progress).unwrap();
+        let edited: String = saved
+            .lines()
+            .map(|l| {
+                if l.starts_with("iteration") {
+                    "iteration = 999999".to_string()
+                } else {
+                    l.to_string()
+                }
+            })
+            .collect::<Vec<_>>()
+            .join("\n");
+        assert_ne!(edited, saved);
+        std::fs::write(&progress, edited).unwrap();
+        let err =
+            String::from_utf8_lossy(&train(&["--resume"]).output().unwrap().stderr).into_owned();
+        assert!(
+            err.contains("progress.toml") && err.contains("999999"),
+            "{err}"
+        );
+        std::fs::write(&progress, saved).unwrap();
         // Issue 16 item 3: resuming on other photos is refused.
         let other = dir.join("other-sample");
         std::fs::create_dir_all(&other).unwrap();
@@ -496,6 +519,22 @@ fn broken_model_files_are_clear_errors() {
             "{err}"
         );
     }
+    // Issue 16 item 10: damaged weights are refused (model.toml records their hash).
+    assert!(meta.contains("weights_hash"), "{meta}");
+    let weights = std::fs::read(model.join("model.bpk")).unwrap();
+    let mut flipped = weights.clone();
+    let last = flipped.len() - 1;
+    flipped[last] ^= 0x40;
+    std::fs::write(model.join("model.bpk"), &flipped).unwrap();
+    let err = match TrainedModel::load(&model, &device) {
+        Ok(_) => panic!("flipped weights accepted"),
+        Err(e) => e.to_string(),
+    };
+    assert!(
+        err.contains("model.bpk") && err.contains("weights_hash"),
+        "{err}"
+    );
+    std::fs::write(model.join("model.bpk"), &weights).unwrap();
     let replace_line = |key: &str, line: &str| {
         meta.lines()
             .map(|l| if l.starts_with(key) { line } else { l })

@@ -122,6 +122,11 @@ impl Provenance {
     }
 }
 
+/// The FNV-1a 64 hash of `bytes` as 16 hex digits (what the records store).
+pub fn content_hash(bytes: &[u8]) -> String {
+    hex(fnv1a(bytes, FNV_OFFSET))
+}
+
 /// The canonical path (so `./S` and `/home/me/S` are the same input).
 fn absolute(path: &Path) -> String {
     fs::canonicalize(path)

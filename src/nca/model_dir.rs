@@ -19,6 +19,7 @@ use super::model::Nca;
 use crate::config::{Checker, load_toml, write_config_copy};
 use crate::error::{Result, XylemError};
 use crate::frame::Face;
+use crate::io::provenance::content_hash;
 use crate::io::write_bytes_atomic;
 
 pub const WEIGHTS_FILE: &str = "model.bpk";
@@ -38,6 +39,10 @@ pub struct ModelMeta {
     pub faces: Vec<Face>,
     /// Training iterations done.
     pub iterations: usize,
+    /// Hash of model.bpk's bytes (`io::provenance::content_hash`), written when training
+    /// finishes; loading checks it, so damaged weights are an error, not a wrong volume.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub weights_hash: Option<String>,
 }
 
 /// A model ready to unroll.
@@ -45,6 +50,32 @@ pub struct TrainedModel {
     pub meta: ModelMeta,
     pub fit: FitRecord,
     pub model: Nca,
+}
+
+/// Compares model.bpk's bytes with the hash model.toml recorded (models written before
+/// the hash existed have none and are not checked).
+fn check_weights_hash(path: &Path, expected: Option<&str>) -> Result<()> {
+    let Some(expected) = expected else {
+        return Ok(());
+    };
+    let bytes = std::fs::read(path).map_err(|e| XylemError::io(path, e))?;
+    let actual = content_hash(&bytes);
+    if actual != expected {
+        return Err(XylemError::input(
+            path.display().to_string(),
+            format!(
+                "content hash {actual} differs from weights_hash = \"{expected}\" in model.toml: \
+                 the weights were damaged or replaced; retrain or restore the file"
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Hash of the weights file as written (for [`ModelMeta::weights_hash`]).
+pub fn weights_hash(path: &Path) -> Result<String> {
+    let bytes = std::fs::read(path).map_err(|e| XylemError::io(path, e))?;
+    Ok(content_hash(&bytes))
 }
 
 /// Writes weights atomically as burnpack.
@@ -131,6 +162,7 @@ impl TrainedModel {
             ));
         }
         let meta = ModelMeta::load(dir)?;
+        check_weights_hash(&dir.join(WEIGHTS_FILE), meta.weights_hash.as_deref())?;
         let fit = FitRecord::load(&dir.join(FIT_FILE), None)?;
         let model = load_weights(&meta.spec, &dir.join(WEIGHTS_FILE), device)?;
         Ok(Self { meta, fit, model })

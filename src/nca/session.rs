@@ -13,7 +13,7 @@ use super::config::TrainConfig;
 use super::fit_source::FIT_FILE;
 use super::loss::FaceLoss;
 use super::loss_log::{LossRow, write_csv};
-use super::model_dir::{ModelMeta, WEIGHTS_FILE, save_weights};
+use super::model_dir::{ModelMeta, WEIGHTS_FILE, save_weights, weights_hash};
 use super::plot::loss_plot;
 use super::snapshot;
 use super::train::{TrainData, Trainer, check_data};
@@ -59,13 +59,14 @@ pub fn run_training(
     check_data(data)?;
     let root = out.root();
     let mut trainer = Trainer::new(config, data, kind)?;
-    let meta = |iterations| ModelMeta {
+    let meta = |iterations, weights_hash| ModelMeta {
         spec: config.model.clone(),
         normalisation: data.normalisation.clone(),
         grid: config.volume.size,
         seed: config.seed,
         faces: data.faces.clone(),
         iterations,
+        weights_hash,
     };
     let mut rows = if options.resume {
         if !snapshot::exists(root) {
@@ -85,7 +86,7 @@ pub fn run_training(
         write_config_copy(&out.path(CONFIG_FILE), config, config_source)?;
         data.fit
             .save(&out.path(FIT_FILE), "the fit given to xylem train")?;
-        meta(0).save(root)?;
+        meta(0, None).save(root)?;
         Vec::new()
     };
     rows.truncate(trainer.iteration);
@@ -119,7 +120,8 @@ pub fn run_training(
     }
     snapshot::save(root, &trainer, &rows)?;
     save_weights(&trainer.plain_model(), &out.path(WEIGHTS_FILE))?;
-    meta(trainer.iteration).save(root)?;
+    let hash = weights_hash(&out.path(WEIGHTS_FILE))?;
+    meta(trainer.iteration, Some(hash)).save(root)?;
     write_csv(&out.path(LOSS_FILE), &rows)?;
     let losses: Vec<f32> = rows.iter().map(|r| r.loss).collect();
     save_png(&loss_plot(&losses, 480, 240), &out.path(PLOT_FILE))?;

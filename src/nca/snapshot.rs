@@ -178,7 +178,30 @@ pub fn load(root: &Path, trainer: &mut Trainer) -> Result<Vec<LossRow>> {
         )));
     }
     trainer.pool = Pool::from_data(slots, trainer.device())?;
+    let total = trainer.config.schedule.iterations;
+    if progress.iteration > total {
+        return Err(XylemError::input(
+            dir.join("progress.toml").display().to_string(),
+            format!(
+                "iteration = {}: expected at most the config's {total} iterations",
+                progress.iteration
+            ),
+        ));
+    }
     trainer.iteration = progress.iteration;
-    let rows = read_csv(&dir.join("loss.csv"))?;
+    let loss_path = dir.join("loss.csv");
+    let rows = read_csv(&loss_path)?;
+    // A shorter log would leave a gap in the final loss.csv.
+    if rows.len() < progress.iteration {
+        return Err(XylemError::input(
+            loss_path.display().to_string(),
+            format!(
+                "has {} rows, but the checkpoint is at iteration {}: the checkpoint is damaged; \
+                 start the training again",
+                rows.len(),
+                progress.iteration
+            ),
+        ));
+    }
     Ok(rows)
 }
