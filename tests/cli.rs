@@ -355,3 +355,24 @@ fn absurd_run_and_synth_options_are_refused_up_front() {
     }
     assert!(!dir.exists());
 }
+
+/// Issue 16 item 9: `texture2d` refuses a target too small to hold a texture.
+#[test]
+fn texture2d_refuses_a_one_pixel_target() {
+    let dir = scratch("t2d-tiny");
+    std::fs::create_dir_all(&dir).unwrap();
+    let target = dir.join("tiny.png");
+    image::RgbImage::from_pixel(1, 1, image::Rgb([120, 90, 60]))
+        .save(&target)
+        .unwrap();
+    let err = run_err(
+        xylem()
+            .args(["texture2d", "--target"])
+            .arg(&target)
+            .arg("--out")
+            .arg(dir.join("out")),
+    );
+    assert!(err.contains("tiny.png") && err.contains("1x1"), "{err}");
+    assert!(!dir.join("out").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -283,3 +283,26 @@ fn design_table_makes_real_rings_most_continuous_across_cube_edges() {
         }
     }
 }
+
+/// Issue 16 item 11: temporary files a killed xylem left in an output folder are removed
+/// when the folder is used again; those of a running process are kept.
+#[test]
+fn output_folders_drop_temporary_files_of_dead_processes() {
+    let dir = std::env::temp_dir().join(format!("xylem-temps-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = xylem::io::OutputDir::prepare(&dir).unwrap();
+    std::fs::create_dir_all(out.path("synth")).unwrap();
+    // 4194304 is above Linux's largest process id, so no process has it.
+    let stale = out.path("synth/.volume.npy.4194305.tmp");
+    let live = out.path(format!(".loss.csv.{}.tmp", std::process::id()));
+    let user = out.path("notes.tmp");
+    for f in [&stale, &live, &user] {
+        std::fs::write(f, b"x").unwrap();
+    }
+    xylem::io::OutputDir::prepare(&dir).unwrap();
+    if std::path::Path::new("/proc/self").exists() {
+        assert!(!stale.exists(), "stale temporary file kept");
+    }
+    assert!(live.exists() && user.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

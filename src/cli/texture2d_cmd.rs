@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::Result;
+use anyhow::{Result, bail};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use xylem::config::{Checker, write_config_copy};
@@ -80,9 +80,21 @@ fn resolve(args: &Texture2dArgs) -> Result<(Texture2dConfig, String)> {
     Ok((cfg, origin))
 }
 
+/// Smallest target side accepted.
+const MIN_TARGET_SIDE: usize = 16;
+
 pub fn run(args: Texture2dArgs) -> Result<()> {
     let (cfg, origin) = resolve(&args)?;
     let photo = load_rgb(&args.target)?;
+    // A texture needs texels: below this the loss's pyramid has nothing to compare.
+    if photo.width.min(photo.height) < MIN_TARGET_SIDE {
+        bail!(
+            "--target {}: is {}x{}; expected a photo of at least {MIN_TARGET_SIDE}x{MIN_TARGET_SIDE} pixels",
+            args.target.display(),
+            photo.width,
+            photo.height
+        );
+    }
     let out = OutputDir::prepare(&args.out)?;
 
     let bar = ProgressBar::new(cfg.steps as u64).with_style(

@@ -40,6 +40,7 @@ impl OutputDir {
         } else {
             fs::create_dir_all(root).map_err(|e| XylemError::io(root, e))?;
         }
+        remove_stale_temps(root, 2);
         let marker = root.join(MARKER);
         if !marker.exists() {
             fs::write(&marker, b"written by xylem\n").map_err(|e| XylemError::io(&marker, e))?;
@@ -68,4 +69,38 @@ pub fn check_new_file(path: &Path, force: bool) -> Result<()> {
         ));
     }
     Ok(())
+}
+
+/// Removes the temporary files of atomic writes (`.NAME.PID.tmp`) that a killed xylem left
+/// in `dir` and its subfolders down to `depth`; a file whose process still runs is kept.
+/// Best effort: where running processes cannot be listed (no `/proc`), nothing is removed.
+fn remove_stale_temps(dir: &Path, depth: usize) {
+    if !Path::new("/proc/self").exists() {
+        return;
+    }
+    let Ok(entries) = fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let path = entry.path();
+        if path.is_dir() {
+            if depth > 0 {
+                remove_stale_temps(&path, depth - 1);
+            }
+            continue;
+        }
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if let Some(pid) = temp_owner(&name)
+            && !Path::new(&format!("/proc/{pid}")).exists()
+        {
+            let _ = fs::remove_file(&path);
+        }
+    }
+}
+
+/// The process id in a temporary name `.NAME.PID.tmp`.
+fn temp_owner(name: &str) -> Option<u32> {
+    let inner = name.strip_prefix('.')?.strip_suffix(".tmp")?;
+    let (_, pid) = inner.rsplit_once('.')?;
+    pid.parse().ok()
 }
