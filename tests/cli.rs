@@ -196,6 +196,21 @@ fn procedural_writes_images_config_and_volume() {
     assert_eq!((fibres.dims, fibres.channels), ([6, 6, 6], 3));
     let d = glam::Vec3::from_slice(fibres.voxel(3, 3, 3));
     assert!((d.length() - 1.0).abs() < 1e-4 && d.dot(model.field.pith.dir) > 0.9);
+    // Issue 16 item 11: another species into the same folder without --volume does not
+    // leave the oak volumes beside the new config.
+    run_ok(
+        xylem()
+            .args([
+                "procedural",
+                "--size",
+                "12",
+                "--preset",
+                "softwood",
+                "--out",
+            ])
+            .arg(&out),
+    );
+    assert!(!out.join("volume.npy").exists() && !out.join("fibre_direction.npy").exists());
     std::fs::remove_dir_all(&out).unwrap();
 }
 

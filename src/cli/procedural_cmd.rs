@@ -53,10 +53,27 @@ pub fn run(args: ProceduralArgs) -> Result<()> {
     if let Some(r) = args.volume {
         let volume = render_volume(&model, r as usize, "volume")?;
         write_volume(&out.path("volume.npy"), &volume)?;
-        if args.fibre_direction {
-            let directions = FibreDirection(&model);
-            let volume = render_volume(&directions, r as usize, "fibres")?;
-            write_volume(&out.path("fibre_direction.npy"), &volume)?;
+    }
+    if let Some(r) = args.volume.filter(|_| args.fibre_direction) {
+        let directions = FibreDirection(&model);
+        let volume = render_volume(&directions, r as usize, "fibres")?;
+        write_volume(&out.path("fibre_direction.npy"), &volume)?;
+    }
+    // Volumes an earlier call wrote into this (xylem's own) folder belong to another
+    // config: keeping them beside the new images and config.toml would mislabel them.
+    let written = [
+        ("volume.npy", args.volume.is_some()),
+        (
+            "fibre_direction.npy",
+            args.volume.is_some() && args.fibre_direction,
+        ),
+    ];
+    for (name, now) in written {
+        let path = out.path(name);
+        if !now && path.is_file() {
+            std::fs::remove_file(&path)
+                .with_context(|| format!("removing the earlier {}", path.display()))?;
+            eprintln!("removed {name} of an earlier call (not asked for this time)");
         }
     }
     println!("wrote {}", out.root().display());
