@@ -297,6 +297,17 @@ fn gallery_builds_samples_from_species_presets() {
             .arg(out.join("x")),
     );
     assert!(err.contains("teak") && err.contains("chestnut"), "{err}");
+    // Issue 16 item 11: not into a folder of the user's.
+    let mine = out.join("mine");
+    std::fs::create_dir_all(&mine).unwrap();
+    std::fs::write(mine.join("notes.txt"), "mine").unwrap();
+    let err = run_err(
+        xylem()
+            .args(["gallery", "--size", "16", "--species", "oak", "--out"])
+            .arg(&mine),
+    );
+    assert!(err.contains("not written by xylem"), "{err}");
+    assert!(!mine.join("oak").exists());
     std::fs::remove_dir_all(&out).unwrap();
 }
 

@@ -52,6 +52,8 @@ pub fn run(args: GalleryArgs) -> Result<()> {
             );
         }
     }
+    // The gallery folder itself must be new, empty or xylem's, like every output folder.
+    OutputDir::prepare(&args.out)?;
     let bar = ProgressBar::new(names.len() as u64).with_style(
         ProgressStyle::with_template("{msg:>10} [{bar:30}] {pos}/{len} {elapsed}")?
             .progress_chars("=> "),
