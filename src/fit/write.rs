@@ -40,7 +40,6 @@ pub fn write_fit(
     size: usize,
     source: &str,
 ) -> Result<()> {
-    write_config_copy(&out.path("fit.toml"), &result.field, source)?;
     write_config_copy(&out.path("config.toml"), fit_cfg, source)?;
     let field = GrowthField::from_config(&result.field);
     let colour =
@@ -77,7 +76,9 @@ pub fn write_fit(
         )?;
     }
     save_png(&fit_sheet(&rows), &out.path("sheet.png"))?;
-    write_bytes_atomic(&out.path("loss.csv"), loss_csv(result).as_bytes())
+    write_bytes_atomic(&out.path("loss.csv"), loss_csv(result).as_bytes())?;
+    // Last: fit.toml is what later stages read, so its presence means the fit is complete.
+    write_config_copy(&out.path("fit.toml"), &result.field, source)
 }
 
 /// `loss.csv`: one row per logged iteration.
