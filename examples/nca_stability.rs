@@ -59,15 +59,7 @@ fn main() -> xylem::Result<()> {
         }
     }
     for (steps, v) in at.iter().zip(&volumes) {
-        let r = ValueRange::of(&v.data);
-        println!(
-            "steps {steps:4}: values in [{:.3}, {:.3}], {} of {} ({:.2e}) outside [0, 1]",
-            r.min,
-            r.max,
-            r.outside_count,
-            v.data.len(),
-            r.outside
-        );
+        println!("steps {steps:4}: values in {}", ValueRange::of(&v.data));
     }
     for i in 1..at.len() {
         let mad = |k: usize| {

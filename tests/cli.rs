@@ -321,38 +321,27 @@ fn report_keeps_existing_files() {
     std::fs::write(&notes, "my notes").unwrap();
     let metrics = dir.join("metrics.csv");
     std::fs::write(&metrics, "method,image\n").unwrap();
-    let err = run_err(
-        xylem()
-            .args(["report", "--run"])
+    let report = |out: &Path| {
+        let mut cmd = xylem();
+        cmd.args(["report", "--run"])
             .arg(&dir)
             .arg("--out")
-            .arg(&notes),
-    );
+            .arg(out);
+        cmd
+    };
+    let err = run_err(&mut report(&notes));
     assert!(
         err.contains("notes.html") && err.contains("--force"),
         "{err}"
     );
     assert_eq!(std::fs::read_to_string(&notes).unwrap(), "my notes");
-    let err = run_err(
-        xylem()
-            .args(["report", "--run"])
-            .arg(&dir)
-            .arg("--out")
-            .arg(&metrics),
-    );
+    let err = run_err(&mut report(&metrics));
     assert!(
         err.contains("metrics.csv") && err.contains(".html"),
         "{err}"
     );
     assert_eq!(std::fs::read_to_string(&metrics).unwrap(), "method,image\n");
-    run_ok(
-        xylem()
-            .args(["report", "--run"])
-            .arg(&dir)
-            .arg("--out")
-            .arg(&notes)
-            .arg("--force"),
-    );
+    run_ok(report(&notes).arg("--force"));
     assert!(std::fs::read_to_string(&notes).unwrap().contains("<html"));
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -235,7 +235,7 @@ fn npy_round_trip_keeps_shape_values_and_axis_order() {
     // Issue 16 items 5 and 11: crafted headers are refused, not read as something else.
     let crafted = |dict: &str| {
         let mut text = dict.to_string();
-        while (10 + text.len() + 1) % 64 != 0 {
+        while !(10 + text.len() + 1).is_multiple_of(64) {
             text.push(' ');
         }
         text.push('\n');

@@ -139,7 +139,7 @@ pub fn run(args: RunArgs) -> Result<()> {
     let table = run_metrics::metrics_table(&args.sample, &faces, &fit, &procedural, &nca)?;
     write_bytes_atomic(&out.path("metrics.csv"), table.to_csv().as_bytes())?;
     let textures: [(&str, &dyn SolidTexture); 2] = [("nca", &nca), ("procedural", &procedural)];
-    let phase = run_metrics::phase_table(&args.sample, &fit, &textures, 256)?;
+    let phase = run_metrics::phase_table(&reference, &fit, &textures, 256)?;
     write_bytes_atomic(&out.path("phase.csv"), phase.to_csv().as_bytes())?;
     step("report");
     let title = format!("xylem run: {}", args.sample.display());

@@ -109,9 +109,11 @@ const PHASE_BINS: usize = 10;
 
 /// Pore density by ring phase (`phase.csv`): the curve of the sample's photos (all its faces
 /// pooled), and for every sheet row the curve of each texture with its correlation to the
-/// photos' curve. The ring phase everywhere is the fitted field's.
+/// photos' curve; `reference` is the sheet's reference column (photos of the faces, true
+/// cuts of a synthetic sample, in `SHEET_ROWS` order). The ring phase everywhere is the
+/// fitted field's.
 pub fn phase_table(
-    sample: &Path,
+    reference: &[Option<Image2>],
     fit: &FieldConfig,
     textures: &[(&str, &dyn SolidTexture)],
     size: usize,
@@ -120,14 +122,14 @@ pub fn phase_table(
     use xylem::report::{SHEET_ROWS, row_plane};
     let field = GrowthField::from_config(fit);
     let g_map = |plane: &Plane| slice_plane(&field, plane, size, size);
+    let is_face = |row: &str| Face::parse(row).is_some();
     let mut photos = PhaseDensity::new(PHASE_BINS);
-    for face in Face::ALL {
-        let path = sample.join(format!("{face}_col.png"));
-        if path.is_file() {
-            photos.add(&load_rgb(&path)?, &g_map(&Plane::face(face)))?;
+    for (i, name) in SHEET_ROWS.iter().enumerate() {
+        if let (true, Some(photo)) = (is_face(name), &reference[i]) {
+            photos.add(photo, &g_map(&row_plane(i)))?;
         }
     }
-    let reference = photos.curve();
+    let photo_curve = photos.curve();
     let mut header = vec![
         "method".to_string(),
         "image".to_string(),
@@ -138,24 +140,22 @@ pub fn phase_table(
         let mut r = vec![
             method.to_string(),
             image.to_string(),
-            curve_correlation(curve, &reference).to_string(),
+            curve_correlation(curve, &photo_curve).to_string(),
         ];
         r.extend(curve.iter().map(|v| v.to_string()));
         r
     };
-    let mut rows = vec![row("photos", "all faces", &reference)];
+    let mut rows = vec![row("photos", "all faces", &photo_curve)];
     for (i, name) in SHEET_ROWS.iter().enumerate() {
-        let plane = row_plane(i);
-        let g = g_map(&plane);
-        let truth = sample.join(format!("truth/{name}.png"));
-        if truth.is_file() {
+        let g = g_map(&row_plane(i));
+        if let (false, Some(truth)) = (is_face(name), &reference[i]) {
             let mut d = PhaseDensity::new(PHASE_BINS);
-            d.add(&load_rgb(&truth)?, &g)?;
+            d.add(truth, &g)?;
             rows.push(row("truth", name, &d.curve()));
         }
         for (method, texture) in textures {
             let mut d = PhaseDensity::new(PHASE_BINS);
-            d.add(&slice_plane(*texture, &plane, size, size), &g)?;
+            d.add(&slice_plane(*texture, &row_plane(i), size, size), &g)?;
             rows.push(row(method, name, &d.curve()));
         }
     }

@@ -69,14 +69,7 @@ pub fn run(args: SynthArgs) -> Result<()> {
     let volume = synthesise(&trained, &options, &device, |s| bar.set_position(s as u64))?;
     bar.finish();
     let range = ValueRange::of(&volume.data);
-    eprintln!(
-        "colour values in [{:.3}, {:.3}], {} of {} ({:.2e}) outside [0, 1] (not clamped)",
-        range.min,
-        range.max,
-        range.outside_count,
-        volume.data.len(),
-        range.outside
-    );
+    eprintln!("colour values in {range} (not clamped)");
     write_volume(&out.path("volume.npy"), &volume)?;
     SliceSet::render(&volume, size).write(&out, "")?;
     write_config_copy(

@@ -36,7 +36,7 @@ use super::config::LossConfig;
 use super::distance::{SCALE_EPS, relative_mse};
 use super::features::FeatureExtractor;
 use super::guided_config::GuidedConfig;
-use super::image_tensor::{image_to_tensor, tensor_values};
+use super::image_tensor::{image_to_tensor, planar_tensor, tensor_values};
 use super::pyramid::pyramid;
 use super::sliced_wasserstein::{random_projections, resample_sorted};
 use crate::error::{Result, XylemError};
@@ -193,20 +193,9 @@ impl GuidedLoss {
                 ),
             ));
         }
-        let (h, w, g) = (guide.height, guide.width, guide.channels);
-        let mut planar = vec![0.0f32; g * h * w];
-        for (p, px) in guide.data.chunks_exact(g).enumerate() {
-            for (c, &v) in px.iter().enumerate() {
-                planar[c * h * w + p] = v;
-            }
-        }
-        let guide = Tensor::from_data(
-            burn::tensor::TensorData::new(planar, [g, h, w]),
-            &self.device,
-        );
         Ok(GuidedTarget {
             image: image_to_tensor(image, &self.device),
-            guide,
+            guide: planar_tensor(guide, &self.device),
         })
     }
 

@@ -9,15 +9,19 @@ use crate::image2::Image2;
 /// An image as an RGB tensor `[3, H, W]` on `device` (grey is repeated, extra channels are
 /// dropped).
 pub fn image_to_tensor(img: &Image2, device: &Device) -> Tensor<3> {
-    let (h, w) = (img.height, img.width);
-    let rgb = img.with_channels(3);
-    let mut planar = vec![0.0f32; 3 * h * w];
-    for (p, px) in rgb.data.chunks_exact(3).enumerate() {
-        for (c, &v) in px.iter().enumerate() {
-            planar[c * h * w + p] = v;
+    planar_tensor(&img.with_channels(3), device)
+}
+
+/// An image with any number of channels as a planar tensor `[C, H, W]`.
+pub fn planar_tensor(img: &Image2, device: &Device) -> Tensor<3> {
+    let (h, w, c) = (img.height, img.width, img.channels);
+    let mut planar = vec![0.0f32; c * h * w];
+    for (p, px) in img.data.chunks_exact(c).enumerate() {
+        for (ch, &v) in px.iter().enumerate() {
+            planar[ch * h * w + p] = v;
         }
     }
-    Tensor::from_data(TensorData::new(planar, [3, h, w]), device)
+    Tensor::from_data(TensorData::new(planar, [c, h, w]), device)
 }
 
 /// An RGB tensor `[3, H, W]` as an image (values as they are, not clamped).

@@ -75,6 +75,13 @@ pub struct VolumeConfig {
     pub placement: Placement,
 }
 
+impl VolumeConfig {
+    /// Side of the regions trained on: the crop, or the whole grid when the crop is larger.
+    pub fn crop_side(&self) -> usize {
+        self.crop.min(self.size)
+    }
+}
+
 /// Iterations, unroll lengths and the learning-rate schedule.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

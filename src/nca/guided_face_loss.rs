@@ -22,7 +22,7 @@ pub struct GuidedFaceLoss {
 impl GuidedFaceLoss {
     pub fn new(cfg: &TrainConfig, data: &TrainData, device: &Device) -> Result<Self> {
         let loss = GuidedLoss::new(&cfg.loss.style, &cfg.loss.guided, device);
-        let side = cfg.volume.crop.min(cfg.volume.size);
+        let side = cfg.volume.crop_side();
         if !loss.usable(side, side) {
             return Err(XylemError::input(
                 "training config [volume] crop",

@@ -60,7 +60,7 @@ pub struct StyleFaceLoss {
 impl StyleFaceLoss {
     pub fn new(cfg: &TrainConfig, targets: &[Option<Image2>; 6], device: &Device) -> Result<Self> {
         let loss = StyleLoss::new(&cfg.loss.style, device);
-        let side = cfg.volume.crop.min(cfg.volume.size);
+        let side = cfg.volume.crop_side();
         if !loss.usable(side, side) {
             return Err(XylemError::input(
                 "training config [volume] crop",

@@ -167,10 +167,10 @@ fn colour_volume(
 pub struct ValueRange {
     pub min: f32,
     pub max: f32,
-    /// Fraction of values below 0 or above 1.
-    pub outside: f64,
-    /// Number of values below 0 or above 1 (a fraction rounds rare ones away).
+    /// Number of values below 0 or above 1 (a fraction alone rounds rare ones away).
     pub outside_count: usize,
+    /// Number of values looked at.
+    pub values: usize,
 }
 
 impl ValueRange {
@@ -186,13 +186,28 @@ impl ValueRange {
         Self {
             min,
             max,
-            outside: outside as f64 / values.len().max(1) as f64,
             outside_count: outside,
+            values: values.len(),
         }
     }
 
-    /// Every value is finite and inside [0, 1].
-    pub fn in_unit_range(&self) -> bool {
-        self.outside == 0.0 && self.min.is_finite() && self.max.is_finite()
+    /// Fraction of values below 0 or above 1.
+    pub fn outside_fraction(&self) -> f64 {
+        self.outside_count as f64 / self.values.max(1) as f64
+    }
+}
+
+/// `[min, max], N of M (fraction) outside [0, 1]`.
+impl std::fmt::Display for ValueRange {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "[{:.3}, {:.3}], {} of {} ({:.2e}) outside [0, 1]",
+            self.min,
+            self.max,
+            self.outside_count,
+            self.values,
+            self.outside_fraction()
+        )
     }
 }

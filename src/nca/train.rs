@@ -21,7 +21,7 @@ use super::checkpoint::{Objective, UnrollGradients, unroll_gradients};
 use super::conditioning::{Conditioning, Normalisation};
 use super::config::{Engine, TargetColour, TrainConfig};
 use super::face_guides::{GUIDE_CHANNELS, phase_channels, phase_guides};
-use super::faces::{FacePatch, face_patches, inner_patches};
+use super::faces::{FacePatch, face_patches, inner_patches, layout};
 use super::fit_source::FitRecord;
 use super::fused::{FixedInputs, Isa, MlpWeights, Stepper, burn_bridge};
 use super::loss::FaceLoss;
@@ -183,7 +183,7 @@ impl Trainer {
 
     /// Shape `[C, X, Y, Z]` of the states trained on (every region has the crop's size).
     pub fn state_dims(&self) -> [usize; 4] {
-        let side = self.config.volume.crop.min(self.config.volume.size);
+        let side = self.config.volume.crop_side();
         [self.config.model.state_channels, side, side, side]
     }
 
@@ -290,7 +290,7 @@ impl Trainer {
 
 /// Refuses a crop and unroll whose autodiff tape would not fit in memory.
 fn check_training_memory(config: &TrainConfig) -> Result<()> {
-    let crop = config.volume.crop.min(config.volume.size);
+    let crop = config.volume.crop_side();
     let [_, longest] = config.schedule.steps;
     let segment = config.memory.segment_steps;
     let tape = if segment == 0 {
@@ -329,9 +329,11 @@ fn region_inputs(
         }
     };
     let colour = data.normalisation.colour_tensor(&vols, device);
-    let faces = face_patches(&colour, &region, &data.faces)
+    let faces = data
+        .faces
         .iter()
-        .map(|p| p.face)
+        .copied()
+        .filter(|&f| layout(f).touches(&region))
         .collect();
     let [x, y, z] = region.dims;
     let guide = tensor_from(
@@ -376,7 +378,7 @@ fn burn_in_state(
 /// Depths (voxels from the face) of the planes inside the crop that iteration `it` also
 /// compares with the photos: `inner_planes` of them, uniform in [1, crop - 2].
 fn plane_depths(cfg: &TrainConfig, it: usize) -> Vec<usize> {
-    let side = cfg.volume.crop.min(cfg.volume.size);
+    let side = cfg.volume.crop_side();
     if side < 3 {
         return Vec::new();
     }
