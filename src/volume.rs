@@ -55,6 +55,11 @@ impl Volume {
         Self::from_texture_with_progress(texture, n, &|| {})
     }
 
+    /// [`Volume::from_texture`] on an `nx x ny x nz` grid (voxel centres per axis as always).
+    pub fn from_texture_dims(texture: &dyn SolidTexture, dims: [usize; 3]) -> Self {
+        Self::evaluate(texture, dims, &|| {})
+    }
+
     /// [`Volume::from_texture`], calling `slab_done` after each of the n x-slabs (for
     /// progress bars on long evaluations).
     pub fn from_texture_with_progress(
@@ -62,18 +67,27 @@ impl Volume {
         n: usize,
         slab_done: &(dyn Fn() + Sync),
     ) -> Self {
+        Self::evaluate(texture, [n, n, n], slab_done)
+    }
+
+    fn evaluate(
+        texture: &dyn SolidTexture,
+        dims: [usize; 3],
+        slab_done: &(dyn Fn() + Sync),
+    ) -> Self {
+        let [nx, ny, nz] = dims;
         let channels = texture.channels();
-        let mut data = vec![0.0f32; n * n * n * channels];
-        data.par_chunks_mut(n * n * channels)
+        let mut data = vec![0.0f32; nx * ny * nz * channels];
+        data.par_chunks_mut(ny * nz * channels)
             .enumerate()
             .for_each(|(i, slab)| {
-                let x = voxel_centre(i, n);
-                for j in 0..n {
-                    let y = voxel_centre(j, n);
-                    for k in 0..n {
-                        let o = (j * n + k) * channels;
+                let x = voxel_centre(i, nx);
+                for j in 0..ny {
+                    let y = voxel_centre(j, ny);
+                    for k in 0..nz {
+                        let o = (j * nz + k) * channels;
                         texture.eval(
-                            Vec3::new(x, y, voxel_centre(k, n)),
+                            Vec3::new(x, y, voxel_centre(k, nz)),
                             &mut slab[o..o + channels],
                         );
                     }
@@ -81,7 +95,7 @@ impl Volume {
                 slab_done();
             });
         Self {
-            dims: [n, n, n],
+            dims,
             channels,
             data,
         }

@@ -165,7 +165,7 @@ fn procedural_writes_images_config_and_volume() {
                 "procedural",
                 "--size",
                 "12",
-                "--volume",
+                "--volume-size",
                 "6",
                 "--fibre-direction",
             ])
@@ -390,4 +390,113 @@ fn texture2d_refuses_a_one_pixel_target() {
     assert!(err.contains("tiny.png") && err.contains("1x1"), "{err}");
     assert!(!dir.join("out").exists());
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 15 item 6: with stderr not a terminal (here a pipe), long commands log progress
+/// lines; `--quiet` silences them.
+#[test]
+fn progress_is_logged_to_a_pipe_and_quiet_silences_it() {
+    let out = scratch("progress");
+    let args = |quiet: bool| {
+        let mut cmd = xylem();
+        cmd.args(["procedural", "--size", "12", "--volume-size", "6", "-o"])
+            .arg(&out)
+            .arg("--preset")
+            .arg("oak");
+        if quiet {
+            cmd.arg("--quiet");
+        }
+        cmd.output().expect("run xylem")
+    };
+    let logged = args(false);
+    assert!(logged.status.success());
+    let stderr = String::from_utf8_lossy(&logged.stderr);
+    assert!(
+        stderr.contains("volume slabs: 0/6 (0%)") || stderr.contains("volume slabs: 1/6"),
+        "a first line when the work starts: {stderr}"
+    );
+    assert!(
+        stderr.contains("volume slabs: 6/6 (100%), elapsed") && stderr.contains("done"),
+        "a last line when it ends: {stderr}"
+    );
+    let quiet = args(true);
+    assert!(quiet.status.success());
+    let stderr = String::from_utf8_lossy(&quiet.stderr);
+    assert!(!stderr.contains("slabs"), "--quiet: {stderr}");
+    std::fs::remove_dir_all(&out).unwrap();
+}
+
+/// Issue 15 items 1 and 4: the format follows the extension; colour is clamped and
+/// reported; a fibre direction is not taken for colour; the extra grids go into the .vdb.
+#[test]
+fn export_infers_the_format_and_guards_colour() {
+    let out = scratch("export-cli");
+    run_ok(
+        xylem()
+            .args(["procedural", "--size", "12", "--volume-size", "6"])
+            .arg("--fibre-direction")
+            .arg("-o")
+            .arg(&out)
+            .args(["--preset", "oak"]),
+    );
+    let volume = out.join("volume.npy");
+    let fibre = out.join("fibre_direction.npy");
+    let said = run_ok(
+        xylem()
+            .arg("export")
+            .arg("--volume")
+            .arg(&volume)
+            .arg("--fibre")
+            .arg(&fibre)
+            .arg("--field")
+            .arg(repo("configs/fields/knot_alive.toml"))
+            .arg("-o")
+            .arg(out.join("wood.vdb")),
+    );
+    assert!(
+        said.contains("colour, linear RGB") && said.contains("clamped"),
+        "{said}"
+    );
+    let vdb = std::fs::read(out.join("wood.vdb")).unwrap();
+    for grid in [&b"color"[..], b"growth", b"fibre"] {
+        assert!(vdb.windows(grid.len()).any(|w| w == grid), "grid {grid:?}");
+    }
+    // Directions around a knot point every way: a third of the components are negative.
+    let mut swirl = xylem::Volume::zeros([4, 4, 4], 3);
+    for (n, v) in swirl.data.chunks_mut(3).enumerate() {
+        let a = n as f32 * 0.7;
+        v.copy_from_slice(&[a.cos(), a.sin(), 0.0]);
+    }
+    let swirl_path = out.join("swirl.npy");
+    xylem::io::npy::write_volume(&swirl_path, &swirl).unwrap();
+    let err = run_err(
+        xylem()
+            .arg("export")
+            .arg("--volume")
+            .arg(&swirl_path)
+            .arg("-o")
+            .arg(out.join("swirl.nrrd")),
+    );
+    assert!(
+        err.contains("swirl.npy") && err.contains("--values data"),
+        "{err}"
+    );
+    assert!(!out.join("swirl.nrrd").exists());
+    run_ok(
+        xylem()
+            .args(["export", "--values", "data", "--volume"])
+            .arg(&swirl_path)
+            .arg("-o")
+            .arg(out.join("swirl.nrrd")),
+    );
+    let err = run_err(
+        xylem()
+            .arg("export")
+            .arg("--volume")
+            .arg(&volume)
+            .arg("-o")
+            .arg(out.join("wood.raw")),
+    );
+    assert!(err.contains("wood.raw") && err.contains(".vdb"), "{err}");
+    std::fs::remove_dir_all(&out).unwrap();
 }

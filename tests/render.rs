@@ -5,7 +5,7 @@ mod common;
 
 use glam::Vec3;
 use xylem::Volume;
-use xylem::export::{Format, export, mitsuba, nrrd};
+use xylem::export::{Format, Values, export, mitsuba, nrrd};
 use xylem::render::lathe::{SHIPPED_SEGMENTS, turned_bowl};
 use xylem::render::{RenderConfig, Shape, TriMesh, render, turntable};
 use xylem::texture::SolidTexture;
@@ -175,16 +175,37 @@ fn exports_read_back_with_values_and_axis_order() {
         }
     }
     for (name, v) in [("cube", &vol), ("odd", &odd)] {
-        export(v, Format::Vol, &dir.join(format!("{name}.vol"))).unwrap();
+        export(
+            v,
+            Values::Data,
+            Format::Vol,
+            &dir.join(format!("{name}.vol")),
+            name,
+        )
+        .unwrap();
         let (back, bbox) = mitsuba::read_vol(&dir.join(format!("{name}.vol"))).unwrap();
         assert_eq!(&back, v);
         assert_eq!(bbox, [-0.5, -0.5, -0.5, 0.5, 0.5, 0.5]);
-        export(v, Format::Nrrd, &dir.join(format!("{name}.nrrd"))).unwrap();
+        export(
+            v,
+            Values::Data,
+            Format::Nrrd,
+            &dir.join(format!("{name}.nrrd")),
+            name,
+        )
+        .unwrap();
         assert_eq!(
             &nrrd::read_nrrd(&dir.join(format!("{name}.nrrd"))).unwrap(),
             v
         );
-        export(v, Format::Npy, &dir.join(format!("{name}.npy"))).unwrap();
+        export(
+            v,
+            Values::Data,
+            Format::Npy,
+            &dir.join(format!("{name}.npy")),
+            name,
+        )
+        .unwrap();
         assert_eq!(
             &xylem::io::npy::read_volume(&dir.join(format!("{name}.npy"))).unwrap(),
             v
@@ -203,7 +224,7 @@ fn exports_read_back_with_values_and_axis_order() {
     let end = header.windows(2).position(|w| w == b"\n\n").unwrap();
     let text = String::from_utf8_lossy(&header[..end]);
     assert!(
-        text.contains("sizes: 3 5 5 5") && text.contains("space origin: (-0.4,-0.4,-0.4)"),
+        text.contains("sizes: 3 5 5 5") && text.contains("space origin: (-1.6,-1.6,-1.6)"),
         "{text}"
     );
     std::fs::remove_dir_all(&dir).unwrap();

@@ -27,13 +27,13 @@ everything `xylem run` writes: fit/, train/, synth/, unfolded.png (truth | NCA),
 metrics.csv and report/index.html. Re-running continues where an interrupted demo stopped.")]
 pub struct DemoArgs {
     /// Output folder.
-    #[arg(long, default_value = "out/demo")]
+    #[arg(long, short = 'o', default_value = "out/demo")]
     pub out: PathBuf,
     /// Species preset of the synthetic sample (oak, chestnut, maple, walnut, softwood, burl).
     #[arg(long, default_value = "chestnut")]
     pub species: String,
     /// Face image side of the synthetic sample, in pixels.
-    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(16..=2048))]
+    #[arg(long, default_value_t = 256, value_parser = super::output_args::side_16_2048)]
     pub size: u32,
     /// NCA training config (default: the built-in configs/nca/quick.toml).
     #[arg(long)]

@@ -24,10 +24,10 @@ pub struct FieldArgs {
     #[command(flatten)]
     pub source: FieldSource,
     /// Image side in pixels.
-    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(2..=8192))]
+    #[arg(long, default_value_t = 256, value_parser = super::output_args::side_2_8192)]
     pub size: u32,
     /// Output folder (created; must be new, empty, or an earlier xylem output).
-    #[arg(long)]
+    #[arg(long, short = 'o')]
     pub out: PathBuf,
 }
 

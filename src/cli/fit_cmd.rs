@@ -2,9 +2,9 @@
 
 use std::path::PathBuf;
 
+use super::progress::Progress;
 use anyhow::{Context, Result};
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
 use xylem::Face;
 use xylem::fit::run::total_steps;
 use xylem::fit::{Display, FitConfig, fit_sample, write_fit};
@@ -33,7 +33,7 @@ pub struct FitArgs {
     #[arg(long, value_name = "DIR")]
     pub sample: PathBuf,
     /// Output folder (created; must be new, empty, or an earlier xylem output).
-    #[arg(long, value_name = "DIR")]
+    #[arg(long, short = 'o', value_name = "DIR")]
     pub out: PathBuf,
     /// Fit on these faces only, e.g. A,B,C,D,E (leave-one-face-out); default all six.
     #[arg(long, value_name = "LIST")]
@@ -59,10 +59,7 @@ pub fn run(args: FitArgs) -> Result<()> {
     let sample = Sample::load(&args.sample, &faces, needs)?;
     let out = OutputDir::prepare(&args.out)?;
 
-    let bar = ProgressBar::new(total_steps(&cfg) as u64).with_style(
-        ProgressStyle::with_template("{msg:>14} [{bar:30}] {percent:>3}% {elapsed}")?
-            .progress_chars("=> "),
-    );
+    let bar = Progress::new("fit", total_steps(&cfg) as u64);
     let mut done_before = 0usize;
     let mut current = String::new();
     let mut report = |stage: &str, step: usize, _of: usize| {
@@ -75,7 +72,7 @@ pub fn run(args: FitArgs) -> Result<()> {
     };
     let result = fit_sample(&sample, &cfg, &mut report)
         .with_context(|| format!("fitting {}", args.sample.display()))?;
-    bar.finish_with_message("done");
+    bar.finish();
 
     let display = display_images(&args.sample);
     write_fit(

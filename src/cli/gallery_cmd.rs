@@ -3,9 +3,9 @@
 
 use std::path::{Path, PathBuf};
 
+use super::progress::Progress;
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
 use xylem::config::write_config_copy;
 use xylem::frame::Face;
 use xylem::image2::Image2;
@@ -28,10 +28,10 @@ truth/), DIR/<species>/unfolded.png (the sample's photos as a cross: B above A, 
 D below A), unfolded_arl.png (its ring images), cuts.png (cut1 | cut2) and config.toml.")]
 pub struct GalleryArgs {
     /// Output folder.
-    #[arg(long, default_value = "out/gallery")]
+    #[arg(long, short = 'o', default_value = "out/gallery")]
     pub out: PathBuf,
     /// Image side in pixels.
-    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(16..=4096))]
+    #[arg(long, default_value_t = 256, value_parser = super::output_args::side_16_4096)]
     pub size: u32,
     /// Species presets to render, comma-separated (default: all).
     #[arg(long, value_delimiter = ',')]
@@ -54,10 +54,7 @@ pub fn run(args: GalleryArgs) -> Result<()> {
     }
     // The gallery folder itself must be new, empty or xylem's, like every output folder.
     OutputDir::prepare(&args.out)?;
-    let bar = ProgressBar::new(names.len() as u64).with_style(
-        ProgressStyle::with_template("{msg:>10} [{bar:30}] {pos}/{len} {elapsed}")?
-            .progress_chars("=> "),
-    );
+    let bar = Progress::new("gallery", names.len() as u64);
     for name in &names {
         bar.set_message(name.clone());
         let cfg = load_species_preset(name)?;
@@ -65,7 +62,7 @@ pub fn run(args: GalleryArgs) -> Result<()> {
             .with_context(|| format!("gallery of species preset {name}"))?;
         bar.inc(1);
     }
-    bar.finish_with_message("done");
+    bar.finish();
     println!(
         "wrote {}/<species>/unfolded.png for {}",
         args.out.display(),

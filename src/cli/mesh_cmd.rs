@@ -15,8 +15,10 @@ pub struct MeshBowlArgs {
     /// Segments around the axis.
     #[arg(long, default_value_t = SHIPPED_SEGMENTS)]
     pub segments: usize,
-    #[arg(long)]
+    /// Output OBJ file.
+    #[arg(long, short = 'o')]
     pub out: PathBuf,
+    /// Replace the output file if it exists.
     #[arg(long)]
     pub force: bool,
 }

@@ -1,6 +1,7 @@
 //! Sub-commands of `xylem`, one file each.
 
 mod compare_cmd;
+mod completions_cmd;
 mod demo_cmd;
 mod export_cmd;
 mod field_cmd;
@@ -10,6 +11,7 @@ mod mesh_cmd;
 mod output_args;
 mod presets;
 mod procedural_cmd;
+mod progress;
 mod render_cmd;
 mod report_cmd;
 mod run_cmd;
@@ -23,13 +25,24 @@ mod train_cmd;
 
 use clap::{Parser, Subcommand};
 
+/// `xylem --version`: the crate version and the git commit it was built from.
+const VERSION: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    " (",
+    env!("XYLEM_GIT_COMMIT"),
+    ")"
+);
+
 /// xylem: solid (volumetric) wood textures from six photographed cube faces.
 ///
 /// The cube is [-0.5, 0.5]^3 (1 unit = 4 cm); faces A..F and the cuts cut1/cut2 follow
 /// docs/DESIGN.md. Every command that writes a folder also writes the config it used there.
 #[derive(Parser, Debug)]
-#[command(name = "xylem", version, propagate_version = true)]
+#[command(name = "xylem", version = VERSION, propagate_version = true)]
 pub struct Cli {
+    /// No progress output (bars on a terminal, log lines every 5 s otherwise).
+    #[arg(long, short = 'q', global = true)]
+    pub quiet: bool,
     #[command(subcommand)]
     pub command: Command,
 }
@@ -37,6 +50,7 @@ pub struct Cli {
 #[derive(Subcommand, Debug)]
 pub enum Command {
     Compare(compare_cmd::CompareArgs),
+    Completions(completions_cmd::CompletionsArgs),
     Demo(demo_cmd::DemoArgs),
     Export(export_cmd::ExportArgs),
     Field(field_cmd::FieldArgs),
@@ -55,8 +69,10 @@ pub enum Command {
 }
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {
+    progress::set_quiet(cli.quiet);
     match cli.command {
         Command::Compare(a) => compare_cmd::run(a),
+        Command::Completions(a) => completions_cmd::run(a),
         Command::Demo(a) => demo_cmd::run(a),
         Command::Export(a) => export_cmd::run(a),
         Command::Field(a) => field_cmd::run(a),
@@ -72,5 +88,34 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Synth(a) => synth_cmd::run(a),
         Command::Texture2d(a) => texture2d_cmd::run(a),
         Command::Train(a) => train_cmd::run(a),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::CommandFactory;
+
+    use super::Cli;
+
+    /// Every flag of every command says what it does, and `-o` always means `--out`.
+    #[test]
+    fn every_flag_has_help_and_o_is_out() {
+        let cli = Cli::command();
+        let mut missing = Vec::new();
+        for cmd in cli.get_subcommands() {
+            for arg in cmd.get_arguments() {
+                let id = arg.get_id().as_str();
+                if id == "help" || id == "version" {
+                    continue;
+                }
+                if arg.get_help().is_none() && arg.get_long_help().is_none() {
+                    missing.push(format!("{} --{id}", cmd.get_name()));
+                }
+                if arg.get_short() == Some('o') {
+                    assert_eq!(arg.get_long(), Some("out"), "{} -o", cmd.get_name());
+                }
+            }
+        }
+        assert!(missing.is_empty(), "flags without help: {missing:?}");
     }
 }

@@ -1,15 +1,72 @@
-//! The image size and output folder shared by commands that render a species.
+//! Arguments shared by several commands: image size and output folder, WIDTHxHEIGHT sizes.
 
 use std::path::PathBuf;
 
+use anyhow::{Result, bail};
 use clap::Args;
 
 #[derive(Args, Debug)]
 pub struct SizeAndOut {
     /// Image (face) side in pixels.
-    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(2..=8192))]
+    #[arg(long, default_value_t = 256, value_parser = side_2_8192)]
     pub size: u32,
     /// Output folder (created; must be new, empty, or an earlier xylem output).
-    #[arg(long)]
+    #[arg(long, short = 'o')]
     pub out: PathBuf,
+}
+
+/// Splits `N` (a square) or `WxH`; `None` if either side is not a number.
+fn split_size(s: &str) -> Option<(u64, u64)> {
+    match s.split_once(['x', 'X']) {
+        Some((w, h)) => Some((w.trim().parse().ok()?, h.trim().parse().ok()?)),
+        None => {
+            let n = s.trim().parse().ok()?;
+            Some((n, n))
+        }
+    }
+}
+
+/// Parses an image size given to the flag `flag`: `WIDTHxHEIGHT`, or `N` for N x N.
+pub fn parse_size(flag: &str, s: &str) -> Result<(usize, usize)> {
+    match split_size(s) {
+        Some((w, h)) if (1..=16384).contains(&w) && (1..=16384).contains(&h) => {
+            Ok((w as usize, h as usize))
+        }
+        _ => {
+            bail!("{flag} {s:?}: expected WIDTHxHEIGHT or N with sides in 1..=16384, e.g. 800x800")
+        }
+    }
+}
+
+/// A square side for `--size` of commands whose images or volumes are square: `N` or `NxN`
+/// (so every `--size` reads sizes the same way), within `lo..=hi`.
+fn square(s: &str, lo: u32, hi: u32) -> std::result::Result<u32, String> {
+    match split_size(s) {
+        Some((w, h)) if w != h => Err(format!(
+            "{w}x{h}: this command makes square images or volumes; give N or NxN"
+        )),
+        Some((n, _)) if (u64::from(lo)..=u64::from(hi)).contains(&n) => Ok(n as u32),
+        _ => Err(format!("{s:?}: expected N or NxN with N in {lo}..={hi}")),
+    }
+}
+
+/// `--size` parsers for the ranges the commands use.
+pub fn side_2_8192(s: &str) -> std::result::Result<u32, String> {
+    square(s, 2, 8192)
+}
+pub fn side_16_4096(s: &str) -> std::result::Result<u32, String> {
+    square(s, 16, 4096)
+}
+pub fn side_16_2048(s: &str) -> std::result::Result<u32, String> {
+    square(s, 16, 2048)
+}
+pub fn side_4_1024(s: &str) -> std::result::Result<u32, String> {
+    square(s, 4, 1024)
+}
+pub fn side_2_1024(s: &str) -> std::result::Result<u32, String> {
+    square(s, 2, 1024)
+}
+/// `side_16_2048` for a `usize` flag.
+pub fn image_side_16_2048(s: &str) -> std::result::Result<usize, String> {
+    square(s, 16, 2048).map(|n| n as usize)
 }

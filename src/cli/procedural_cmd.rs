@@ -2,7 +2,6 @@
 
 use anyhow::{Context, Result};
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
 use xylem::config::write_config_copy;
 use xylem::io::OutputDir;
 use xylem::io::npy::write_volume;
@@ -13,17 +12,18 @@ use xylem::volume::Volume;
 
 use super::output_args::SizeAndOut;
 use super::presets::SpeciesSource;
+use super::progress::Progress;
 
 /// Render a species with the procedural wood model: the six faces, the two validation cuts,
 /// the unfolded cross and optionally an RGB volume.
 #[derive(Args, Debug)]
 #[command(after_help = "Examples:
   xylem procedural --config configs/species/oak.toml --size 256 --out out/oak
-  xylem procedural --preset softwood --size 256 --out out/softwood --volume 128
-  xylem procedural --preset maple --size 128 --out out/maple --volume 64 --fibre-direction
+  xylem procedural --preset softwood --size 256 --out out/softwood --volume-size 128
+  xylem procedural --preset maple --size 128 --out out/maple --volume-size 64 --fibre-direction
 
 Writes DIR/faces/A.png..F.png, DIR/cuts/cut1.png, DIR/cuts/cut2.png, DIR/unfolded.png (the
-cross: B above A, row C A E F, D below A) and DIR/config.toml. With --volume R also
+cross: B above A, row C A E F, D below A) and DIR/config.toml. With --volume-size R also
 DIR/volume.npy: float32 RGB in [0, 1], shape [R, R, R, 3] = [X, Y, Z, C]; vol[i, j, k] is
 the voxel centred at ((i + 0.5)/R - 0.5, (j + 0.5)/R - 0.5, (k + 0.5)/R - 0.5).
 --fibre-direction adds DIR/fibre_direction.npy: the unit fibre direction per voxel, same
@@ -33,12 +33,12 @@ pub struct ProceduralArgs {
     pub source: SpeciesSource,
     #[command(flatten)]
     pub target: SizeAndOut,
-    /// Also write an R^3 RGB volume as DIR/volume.npy.
-    #[arg(long, value_name = "R", value_parser = clap::value_parser!(u32).range(2..=1024))]
-    pub volume: Option<u32>,
-    /// With --volume, also write the unit fibre direction (x, y, z in the cube frame) as
+    /// Also write an R^3 RGB volume as DIR/volume.npy (R voxels per side).
+    #[arg(long, value_name = "R", value_parser = super::output_args::side_2_1024)]
+    pub volume_size: Option<u32>,
+    /// With --volume-size, also write the unit fibre direction (x, y, z in the cube frame) as
     /// DIR/fibre_direction.npy, shape [R, R, R, 3], for anisotropic rendering.
-    #[arg(long, requires = "volume")]
+    #[arg(long, requires = "volume_size")]
     pub fibre_direction: bool,
 }
 
@@ -50,11 +50,11 @@ pub fn run(args: ProceduralArgs) -> Result<()> {
         .write(&out, "")
         .with_context(|| format!("writing the images of {origin}"))?;
     write_config_copy(&out.path("config.toml"), &cfg, &origin)?;
-    if let Some(r) = args.volume {
+    if let Some(r) = args.volume_size {
         let volume = render_volume(&model, r as usize, "volume")?;
         write_volume(&out.path("volume.npy"), &volume)?;
     }
-    if let Some(r) = args.volume.filter(|_| args.fibre_direction) {
+    if let Some(r) = args.volume_size.filter(|_| args.fibre_direction) {
         let directions = FibreDirection(&model);
         let volume = render_volume(&directions, r as usize, "fibres")?;
         write_volume(&out.path("fibre_direction.npy"), &volume)?;
@@ -62,10 +62,10 @@ pub fn run(args: ProceduralArgs) -> Result<()> {
     // Volumes an earlier call wrote into this (xylem's own) folder belong to another
     // config: keeping them beside the new images and config.toml would mislabel them.
     let written = [
-        ("volume.npy", args.volume.is_some()),
+        ("volume.npy", args.volume_size.is_some()),
         (
             "fibre_direction.npy",
-            args.volume.is_some() && args.fibre_direction,
+            args.volume_size.is_some() && args.fibre_direction,
         ),
     ];
     for (name, now) in written {
@@ -82,12 +82,7 @@ pub fn run(args: ProceduralArgs) -> Result<()> {
 
 /// Evaluates a texture on an r^3 grid with a progress bar (one step per x-slab).
 fn render_volume(texture: &dyn SolidTexture, r: usize, label: &str) -> Result<Volume> {
-    let bar = ProgressBar::new(r as u64).with_style(
-        ProgressStyle::with_template(&format!(
-            "{label} {{pos}}/{{len}} slabs [{{bar:30}}] {{elapsed}} (eta {{eta}})"
-        ))?
-        .progress_chars("=> "),
-    );
+    let bar = Progress::new(&format!("{label} slabs"), r as u64);
     let volume = Volume::from_texture_with_progress(texture, r, &|| bar.inc(1));
     bar.finish();
     Ok(volume)

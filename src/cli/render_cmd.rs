@@ -2,11 +2,12 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
 use xylem::io::{check_new_file, save_png};
 use xylem::render::{RenderConfig, Shape, TriMesh, render, turntable};
 
+use super::output_args::parse_size;
 use super::texture_source::TextureSource;
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -32,36 +33,26 @@ pub struct RenderArgs {
     /// Carve this OBJ mesh from the wood instead of showing the cube.
     #[arg(long, value_name = "M.obj")]
     pub mesh: Option<PathBuf>,
+    /// One lit view of the cube (or mesh), or a turntable of several views side by side.
     #[arg(long, value_enum, default_value = "cube")]
     pub view: View,
-    /// Image size WIDTHxHEIGHT (per view for the turntable).
+    /// Image size WIDTHxHEIGHT, or N for N x N (per view for the turntable).
     #[arg(long, default_value = "800x800")]
     pub size: String,
     /// Render config (TOML); default: the built-in configs/render/default.toml.
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
     /// Output PNG.
-    #[arg(long)]
+    #[arg(long, short = 'o')]
     pub out: PathBuf,
     /// Replace the output file if it exists.
     #[arg(long)]
     pub force: bool,
 }
 
-/// Parses "WIDTHxHEIGHT".
-pub fn parse_size(s: &str) -> Result<(usize, usize)> {
-    let parsed = s
-        .split_once(['x', 'X'])
-        .and_then(|(w, h)| Some((w.trim().parse().ok()?, h.trim().parse().ok()?)));
-    match parsed {
-        Some((w, h)) if (1..=16384).contains(&w) && (1..=16384).contains(&h) => Ok((w, h)),
-        _ => bail!("--size {s:?}: expected WIDTHxHEIGHT with sides in 1..=16384, e.g. 800x800"),
-    }
-}
-
 pub fn run(args: RenderArgs) -> Result<()> {
     check_new_file(&args.out, args.force)?;
-    let (width, height) = parse_size(&args.size)?;
+    let (width, height) = parse_size("--size", &args.size)?;
     let cfg = match &args.config {
         Some(path) => RenderConfig::load(path)?,
         None => RenderConfig::default_config(),

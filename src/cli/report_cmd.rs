@@ -21,7 +21,7 @@ pub struct ReportArgs {
     pub run: PathBuf,
     /// Output HTML file (default: RUN/report/index.html, which is replaced on every call);
     /// must end in .html or .htm; an existing file is only replaced with --force.
-    #[arg(long)]
+    #[arg(long, short = 'o')]
     pub out: Option<PathBuf>,
     /// Replace an existing --out file.
     #[arg(long)]

@@ -68,7 +68,7 @@ pub struct RunArgs {
     #[arg(long)]
     pub sample: PathBuf,
     /// Run folder.
-    #[arg(long)]
+    #[arg(long, short = 'o')]
     pub out: PathBuf,
     /// Faces to fit and train on (leave-one-face-out), e.g. A,B,C,D,E; default all six.
     #[arg(long)]
@@ -90,7 +90,7 @@ pub struct RunArgs {
     #[arg(long, default_value_t = 90, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=2048))]
     pub synth_steps: usize,
     /// Tile size of the sheet and side of the renders, in pixels.
-    #[arg(long, default_value_t = 160, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(16..=2048))]
+    #[arg(long, default_value_t = 160, value_parser = super::output_args::image_side_16_2048)]
     pub image_size: usize,
     /// CPU backend of the NCA's burn parts (optimiser, loss; the whole NCA with --engine burn).
     #[arg(long, default_value = "flex")]

@@ -12,7 +12,11 @@ use super::texture_source::TextureSource;
 
 /// Slice a solid texture with a plane and write one PNG.
 #[derive(Args, Debug)]
-#[command(after_help = "Planes:
+#[command(
+    after_help = "The PNG holds the first three channels as display sRGB, clamped to [0, 1] (an
+NCA volume may step slightly outside; `xylem synth` prints by how much).
+
+Planes:
   cut1, cut2      the validation cuts of docs/DESIGN.md section 3
   A .. F          a cube face
   \"ox,oy,oz;ux,uy,uz;vx,vy,vz\"
@@ -23,7 +27,8 @@ Examples:
   xylem slice --field configs/fields/knot_alive.toml --plane cut1 --size 256 --out cut1.png
   xylem slice --field configs/fields/far.toml --plane \"-0.5,0,0.5;1,0,0;0,0,-1\" --out mid.png
   xylem slice --procedural configs/species/oak.toml --plane cut2 --size 512 --out oak.png
-  xylem slice --volume out/synth/volume.npy --plane cut1 --out cut1.png")]
+  xylem slice --volume out/synth/volume.npy --plane cut1 --out cut1.png"
+)]
 pub struct SliceArgs {
     #[command(flatten)]
     pub source: TextureSource,
@@ -31,10 +36,10 @@ pub struct SliceArgs {
     #[arg(long, allow_hyphen_values = true)]
     pub plane: PlaneSpec,
     /// Image side in pixels.
-    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(2..=8192))]
+    #[arg(long, default_value_t = 256, value_parser = super::output_args::side_2_8192)]
     pub size: u32,
     /// Output PNG.
-    #[arg(long)]
+    #[arg(long, short = 'o')]
     pub out: PathBuf,
     /// Replace the output file if it exists.
     #[arg(long)]

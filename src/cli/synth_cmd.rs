@@ -2,9 +2,9 @@
 
 use std::path::PathBuf;
 
+use super::progress::Progress;
 use anyhow::Result;
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
 use xylem::config::write_config_copy;
 use xylem::device::DeviceKind;
 use xylem::io::OutputDir;
@@ -22,15 +22,17 @@ use xylem::outputs::SliceSet;
 Writes DIR/volume.npy (float32 [N, N, N, 3], RGB; nothing is clamped: models trained with
 the shipped configs stay near [0, 1] (measured in BENCHMARKS.md: within 0.06 on the demo
 and CN03 up to 256 steps, up to 1.15 on the pale H11), and the command prints the range and
-how many values fall outside; axes x, y, z as every xylem volume), DIR/faces/A.png..F.png, DIR/cuts/cut1.png, DIR/cuts/cut2.png, DIR/unfolded.png
-and DIR/model.toml (the model's description). The texture scale is per voxel: a --size other
-than the training grid scales pores and rays with it.")]
+how many values fall outside; axes x, y, z as every xylem volume), DIR/faces/A.png..F.png,
+DIR/cuts/cut1.png, DIR/cuts/cut2.png, DIR/unfolded.png (PNGs clamp colour to [0, 1]) and
+DIR/model.toml (the model's description). The texture scale is per voxel: a --size other
+than the training grid scales pores and rays with it. `xylem export` clamps colour to [0, 1]
+and converts it for other tools (.vdb, .vol, .nrrd, a Mitsuba scene).")]
 pub struct SynthArgs {
     /// Folder written by `xylem train`.
     #[arg(long)]
     pub model: PathBuf,
     /// Volume side in voxels (default: the training grid).
-    #[arg(long, value_parser = clap::value_parser!(u32).range(4..=1024))]
+    #[arg(long, value_parser = super::output_args::side_4_1024)]
     pub size: Option<u32>,
     /// Unroll steps (90, as the Mokume paper's inference).
     #[arg(long, default_value_t = 90, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=2048))]
@@ -39,7 +41,7 @@ pub struct SynthArgs {
     #[arg(long)]
     pub seed: Option<u64>,
     /// Output folder.
-    #[arg(long)]
+    #[arg(long, short = 'o')]
     pub out: PathBuf,
     /// CPU backend of the burn engine (and for loading the weights).
     #[arg(long, default_value = "flex")]
@@ -62,10 +64,7 @@ pub fn run(args: SynthArgs) -> Result<()> {
         slab_voxels: 1 << 18,
         engine: args.engine,
     };
-    let bar = ProgressBar::new(args.steps as u64).with_style(
-        ProgressStyle::with_template("unroll {bar:30} {pos}/{len} steps {per_sec} ETA {eta}")?
-            .progress_chars("=> "),
-    );
+    let bar = Progress::new("unroll", args.steps as u64);
     let volume = synthesise(&trained, &options, &device, |s| bar.set_position(s as u64))?;
     bar.finish();
     let range = ValueRange::of(&volume.data);

@@ -3,9 +3,9 @@
 
 use std::path::{Path, PathBuf};
 
+use super::progress::Progress;
 use anyhow::{Result, bail};
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
 use xylem::config::{Checker, write_config_copy};
 use xylem::device::DeviceKind;
 use xylem::io::{OutputDir, load_rgb, save_png, write_bytes_atomic};
@@ -30,8 +30,8 @@ pub struct Texture2dArgs {
     #[arg(long)]
     pub config: Option<PathBuf>,
     /// Side of the synthesised image in pixels [default: 128].
-    #[arg(long)]
-    pub size: Option<usize>,
+    #[arg(long, value_parser = super::output_args::side_16_4096)]
+    pub size: Option<u32>,
     /// Side the target is resized to [default: --size, so both show the wood at one scale].
     #[arg(long)]
     pub target_size: Option<usize>,
@@ -51,7 +51,7 @@ pub struct Texture2dArgs {
     #[arg(long, default_value = "flex")]
     pub device: DeviceKind,
     /// Output folder (created; must be new, empty, or an earlier xylem output).
-    #[arg(long)]
+    #[arg(long, short = 'o')]
     pub out: PathBuf,
 }
 
@@ -69,8 +69,8 @@ fn resolve(args: &Texture2dArgs) -> Result<(Texture2dConfig, String)> {
         origin += &format!(", loss config {}", path.display());
     }
     if let Some(size) = args.size {
-        cfg.size = size;
-        cfg.target_size = size;
+        cfg.size = size as usize;
+        cfg.target_size = size as usize;
     }
     cfg.target_size = args.target_size.unwrap_or(cfg.target_size);
     cfg.steps = args.steps.unwrap_or(cfg.steps);
@@ -97,14 +97,9 @@ pub fn run(args: Texture2dArgs) -> Result<()> {
     }
     let out = OutputDir::prepare(&args.out)?;
 
-    let bar = ProgressBar::new(cfg.steps as u64).with_style(
-        ProgressStyle::with_template(
-            "texture2d {pos}/{len} [{bar:30}] loss {msg} {elapsed} (eta {eta})",
-        )?
-        .progress_chars("=> "),
-    );
+    let bar = Progress::new("texture2d", cfg.steps as u64);
     let synthesis = synthesize(&photo, &cfg, &args.device.device(), &mut |_, loss| {
-        bar.set_message(format!("{loss:.4}"));
+        bar.set_message(format!("loss {loss:.4}"));
         bar.inc(1);
     })?;
     bar.finish();

@@ -2,9 +2,9 @@
 
 use std::path::PathBuf;
 
+use super::progress::Progress;
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
 use xylem::device::DeviceKind;
 use xylem::frame::Face;
 use xylem::io::{OutputDir, Provenance};
@@ -45,7 +45,7 @@ pub struct TrainArgs {
     #[arg(long)]
     pub config: Option<PathBuf>,
     /// Output folder (the trained model).
-    #[arg(long)]
+    #[arg(long, short = 'o')]
     pub out: PathBuf,
     /// CPU backend.
     #[arg(long, default_value = "flex")]
@@ -135,12 +135,7 @@ pub fn run(args: TrainArgs) -> Result<()> {
     let data = TrainData::prepare(&sample, fit, &config);
     let loss = face_loss(&config, &data, &args.device.device())?;
     let total = config.schedule.iterations as u64;
-    let bar = ProgressBar::new(total).with_style(
-        ProgressStyle::with_template(
-            "{bar:30} {pos}/{len} loss {msg} {per_sec} elapsed {elapsed} ETA {eta}",
-        )?
-        .progress_chars("=> "),
-    );
+    let bar = Progress::new("train", total);
     let options = TrainOptions {
         resume: args.resume,
         stop_after: args.stop_after,
@@ -160,7 +155,7 @@ pub fn run(args: TrainArgs) -> Result<()> {
                 bar.reset_eta();
                 first = false;
             }
-            bar.set_message(format!("{:.4}", row.loss));
+            bar.set_message(format!("loss {:.4}", row.loss));
             bar.set_position(row.iteration as u64 + 1);
         },
     )

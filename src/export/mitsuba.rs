@@ -8,6 +8,7 @@
 use std::path::Path;
 
 use crate::error::{Result, XylemError};
+use crate::export::{read_x_fastest, write_x_fastest};
 use crate::io::write_atomic;
 use crate::volume::Volume;
 
@@ -26,19 +27,7 @@ pub fn write_vol(path: &Path, volume: &Volume) -> Result<()> {
         for v in [-0.5f32, -0.5, -0.5, 0.5, 0.5, 0.5] {
             w.write_all(&v.to_le_bytes())?;
         }
-        let mut buf = Vec::with_capacity(nx * c * 4);
-        for k in 0..nz {
-            for j in 0..ny {
-                buf.clear();
-                for i in 0..nx {
-                    for v in volume.voxel(i, j, k) {
-                        buf.extend_from_slice(&v.to_le_bytes());
-                    }
-                }
-                w.write_all(&buf)?;
-            }
-        }
-        Ok(())
+        write_x_fastest(w, volume)
     })
 }
 
@@ -85,12 +74,6 @@ pub fn read_vol(path: &Path) -> Result<(Volume, [f32; 6])> {
             ),
         ));
     }
-    let mut vol = Volume::zeros([nx, ny, nz], c);
-    for (n, chunk) in payload.chunks_exact(4).enumerate() {
-        let (ch, voxel) = (n % c, n / c);
-        let (i, j, k) = (voxel % nx, (voxel / nx) % ny, voxel / (nx * ny));
-        let o = vol.offset(i, j, k) + ch;
-        vol.data[o] = f32::from_le_bytes(chunk.try_into().expect("4 bytes"));
-    }
+    let vol = read_x_fastest(payload, [nx, ny, nz], c);
     Ok((vol, bbox))
 }
