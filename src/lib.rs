@@ -1,5 +1,55 @@
 //! xylem: solid (volumetric) wood textures from the six photographed faces of a wooden cube.
 //!
+//! # Quick start
+//!
+//! Every source of wood (the procedural model, a fitted growth field, a synthesised NCA
+//! volume) is a [`SolidTexture`]: a colour at any point of the cube [-0.5, 0.5]^3. Slice it
+//! with any [`Plane`], evaluate it on a grid into a [`Volume`], export that for other tools:
+//!
+//! ```
+//! use xylem::export::{Format, Values, export};
+//! use xylem::presets::load_species_preset;
+//! use xylem::procedural::ProceduralWood;
+//! use xylem::slice::slice_plane;
+//! use xylem::{Plane, Volume};
+//!
+//! let oak = ProceduralWood::new(&load_species_preset("oak")?);
+//! // The slanted validation cut cut1 (docs/DESIGN.md), 64 x 64 pixels of display sRGB.
+//! let cut = slice_plane(&oak, &Plane::cut1(), 64, 64);
+//! let dir = std::env::temp_dir().join(format!("xylem-quickstart-{}", std::process::id()));
+//! xylem::io::save_png(&cut, &dir.join("oak-cut1.png"))?;
+//! // A 32^3 colour volume, [X, Y, Z, RGB], as OpenVDB for Blender or Houdini.
+//! let volume = Volume::from_texture(&oak, 32);
+//! export(&volume, Values::Colour, Format::Vdb, &dir.join("oak.vdb"), "oak")?;
+//! # std::fs::remove_dir_all(&dir).ok();
+//! # Ok::<(), xylem::XylemError>(())
+//! ```
+//!
+//! A trained NCA (a folder written by `xylem train` or `xylem run`, e.g. `out/demo/train`)
+//! is unrolled into a volume, which is a solid texture like any other:
+//!
+//! ```no_run
+//! use xylem::device::DeviceKind;
+//! use xylem::nca::model_dir::TrainedModel;
+//! use xylem::nca::synth::{SynthOptions, synthesise};
+//! use xylem::slice::slice_plane;
+//! use xylem::Plane;
+//!
+//! let device = DeviceKind::Flex.device();
+//! let model = TrainedModel::load("out/demo/train".as_ref(), &device)?;
+//! let options = SynthOptions {
+//!     size: model.meta.grid, // the grid it was trained at: pores keep their scale
+//!     steps: 90,             // the unroll length of the Mokume paper
+//!     seed: model.meta.seed,
+//!     slab_voxels: 1 << 18,
+//!     engine: Default::default(), // the fused CPU kernels
+//! };
+//! let volume = synthesise(&model, &options, &device, |_step| {})?;
+//! let cut = slice_plane(&volume, &Plane::cut2(), 256, 256);
+//! xylem::io::save_png(&cut, "cut2.png".as_ref())?;
+//! # Ok::<(), xylem::XylemError>(())
+//! ```
+//!
 //! The modules follow the pipeline (see `docs/DESIGN.md` and the README's picture):
 //!
 //! - [`frame`]: the fixed cube conventions: faces A-F, pixel and voxel centres, the unfolded
@@ -14,7 +64,7 @@
 //! - [`outputs`]: the standard set of faces, cuts and unfolded cross written for a texture.
 //! - [`render`]: lit renders of any solid texture on the cube or on a carved mesh.
 //! - [`report`]: comparison sheets, captioned render rows and the HTML report of a run.
-//! - [`export`]: volumes for other tools (Mitsuba `.vol`, NRRD, `.npy`).
+//! - [`export`]: volumes for other tools (OpenVDB, a Mitsuba scene or `.vol`, NRRD, `.npy`).
 //! - [`io`]: PNG, NPY and TOML files, written atomically; output folders.
 //! - [`config`]: shared config loading and range checks.
 //! - [`sample`]: sample folders in the Mokume layout (photos, ring images, knot markers).
