@@ -419,6 +419,16 @@ fn progress_is_logged_to_a_pipe_and_quiet_silences_it() {
         stderr.contains("volume slabs: 6/6 (100%), elapsed") && stderr.contains("done"),
         "a last line when it ends: {stderr}"
     );
+    // --json is for the commands with a summary.
+    let err = run_err(
+        xylem()
+            .args(["procedural", "--json", "--preset", "oak", "-o"])
+            .arg(&out),
+    );
+    assert!(
+        err.contains("--json") && err.contains("run, fit, train, compare"),
+        "{err}"
+    );
     let quiet = args(true);
     assert!(quiet.status.success());
     let stderr = String::from_utf8_lossy(&quiet.stderr);

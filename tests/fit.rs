@@ -408,7 +408,7 @@ fn cli_fit_writes_every_listed_file_and_a_loadable_field() {
     xylem::config::write_config_copy(&config, &quick_config(), "test").unwrap();
     let out = common::scratch("fit-cli-out");
     let status = Command::new(env!("CARGO_BIN_EXE_xylem"))
-        .args(["fit", "--faces", "A,B,C,D,E", "--sample"])
+        .args(["fit", "--json", "--faces", "A,B,C,D,E", "--sample"])
         .arg(&sample)
         .arg("--out")
         .arg(&out)
@@ -421,6 +421,14 @@ fn cli_fit_writes_every_listed_file_and_a_loadable_field() {
         "{}",
         String::from_utf8_lossy(&status.stderr)
     );
+    // --json (issue 15 item 6): stdout is one JSON object, the human lines went to stderr.
+    let stdout = String::from_utf8_lossy(&status.stdout);
+    assert_eq!(stdout.lines().count(), 1, "{stdout}");
+    assert!(
+        stdout.starts_with("{\"command\": \"fit\"") && stdout.contains("\"iso_mm_step2\": "),
+        "{stdout}"
+    );
+    assert!(String::from_utf8_lossy(&status.stderr).contains("iso-contour error"));
     let mut files = vec![
         "fit.toml".to_string(),
         "config.toml".into(),

@@ -10,6 +10,8 @@ use xylem::io::{check_new_file, load_rgb, save_png};
 use xylem::loss::LossConfig;
 use xylem::metrics::{Comparer, difference_sheet};
 
+use super::json_out::{Summary, json_mode};
+
 /// Compare a candidate image with a reference: ring alignment, grain direction, patch texture
 /// distance (all, lightness, chroma), Lab colour differences and the style loss.
 #[derive(Args, Debug)]
@@ -59,6 +61,15 @@ pub fn run(args: CompareArgs) -> Result<()> {
     if let Some(sheet) = &args.sheet {
         save_png(&difference_sheet(&reference, &candidate), sheet)?;
     }
-    println!("{}", metrics.to_json());
+    // compare's output always was one JSON object; --json only wraps it with the inputs.
+    let summary = Summary::new("compare")
+        .text("reference", &args.reference.display().to_string())
+        .text("candidate", &args.candidate.display().to_string())
+        .raw("metrics", metrics.to_json());
+    if json_mode() {
+        summary.emit();
+    } else {
+        println!("{}", metrics.to_json());
+    }
     Ok(())
 }

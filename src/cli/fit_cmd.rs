@@ -2,7 +2,6 @@
 
 use std::path::PathBuf;
 
-use super::progress::Progress;
 use anyhow::{Context, Result};
 use clap::Args;
 use xylem::Face;
@@ -10,6 +9,9 @@ use xylem::fit::run::total_steps;
 use xylem::fit::{Display, FitConfig, fit_sample, write_fit};
 use xylem::io::OutputDir;
 use xylem::sample::{Needs, Sample, parse_faces};
+
+use super::json_out::{Summary, say};
+use super::progress::Progress;
 
 /// Fit the growth field (pith, rate grid, knots, ring positions) and the base colour to the
 /// ring images and photos of a sample folder.
@@ -84,15 +86,24 @@ pub fn run(args: FitArgs) -> Result<()> {
         sample.size,
         &args.sample.display().to_string(),
     )?;
-    println!(
+    let seconds = result.seconds.iter().sum::<f64>();
+    say(&format!(
         "iso-contour error: {:.3} mm after step 1 (pith), {:.3} mm after step 2; {} contours; \
-         {:.1} s",
-        result.iso_mm_step1,
-        result.iso_mm_step2,
-        result.contours,
-        result.seconds.iter().sum::<f64>()
-    );
-    println!("wrote {}/fit.toml and sheet.png", args.out.display());
+         {seconds:.1} s",
+        result.iso_mm_step1, result.iso_mm_step2, result.contours,
+    ));
+    say(&format!(
+        "wrote {}/fit.toml and sheet.png",
+        args.out.display()
+    ));
+    Summary::new("fit")
+        .text("sample", &args.sample.display().to_string())
+        .text("out", &args.out.display().to_string())
+        .number("iso_mm_step1", f64::from(result.iso_mm_step1))
+        .number("iso_mm_step2", f64::from(result.iso_mm_step2))
+        .integer("contours", result.contours as u64)
+        .number("seconds", seconds)
+        .emit();
     Ok(())
 }
 

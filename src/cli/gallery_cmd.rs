@@ -3,7 +3,6 @@
 
 use std::path::{Path, PathBuf};
 
-use super::progress::Progress;
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use xylem::config::write_config_copy;
@@ -15,6 +14,8 @@ use xylem::presets::{SPECIES_PRESETS, load_species_preset, species_preset_names}
 use xylem::procedural::{SpeciesConfig, write_sample};
 use xylem::sample::{Needs, Sample};
 use xylem::slice::unfold_cross;
+
+use super::progress::Progress;
 
 /// For each species preset, write a synthetic sample cube (Mokume
 /// layout, with its hidden truth), load it back like a real sample and render its unfolded

@@ -7,6 +7,7 @@ mod export_cmd;
 mod field_cmd;
 mod fit_cmd;
 mod gallery_cmd;
+mod json_out;
 mod mesh_cmd;
 mod output_args;
 mod presets;
@@ -43,6 +44,10 @@ pub struct Cli {
     /// No progress output (bars on a terminal, log lines every 5 s otherwise).
     #[arg(long, short = 'q', global = true)]
     pub quiet: bool,
+    /// run, fit, train, compare: print one JSON summary on stdout at the end (the
+    /// human-readable lines go to stderr).
+    #[arg(long, global = true)]
+    pub json: bool,
     #[command(subcommand)]
     pub command: Command,
 }
@@ -70,6 +75,14 @@ pub enum Command {
 
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     progress::set_quiet(cli.quiet);
+    let name = command_name(&cli.command);
+    if cli.json && !json_out::COMMANDS.contains(&name) {
+        anyhow::bail!(
+            "--json: `xylem {name}` has no summary; it is for {}",
+            json_out::COMMANDS.join(", ")
+        );
+    }
+    json_out::init(name, cli.json);
     match cli.command {
         Command::Compare(a) => compare_cmd::run(a),
         Command::Completions(a) => completions_cmd::run(a),
@@ -88,6 +101,29 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Synth(a) => synth_cmd::run(a),
         Command::Texture2d(a) => texture2d_cmd::run(a),
         Command::Train(a) => train_cmd::run(a),
+    }
+}
+
+/// The sub-command's name as typed (clap's kebab-case).
+fn command_name(command: &Command) -> &'static str {
+    match command {
+        Command::Compare(_) => "compare",
+        Command::Completions(_) => "completions",
+        Command::Demo(_) => "demo",
+        Command::Export(_) => "export",
+        Command::Field(_) => "field",
+        Command::Fit(_) => "fit",
+        Command::Gallery(_) => "gallery",
+        Command::MeshBowl(_) => "mesh-bowl",
+        Command::Procedural(_) => "procedural",
+        Command::Render(_) => "render",
+        Command::Report(_) => "report",
+        Command::Run(_) => "run",
+        Command::Sample(_) => "sample",
+        Command::Slice(_) => "slice",
+        Command::Synth(_) => "synth",
+        Command::Texture2d(_) => "texture2d",
+        Command::Train(_) => "train",
     }
 }
 

@@ -2,7 +2,6 @@
 
 use std::path::PathBuf;
 
-use super::progress::Progress;
 use anyhow::Result;
 use clap::Args;
 use xylem::config::write_config_copy;
@@ -13,6 +12,8 @@ use xylem::nca::config::Engine;
 use xylem::nca::model_dir::TrainedModel;
 use xylem::nca::synth::{SynthOptions, ValueRange, synthesise};
 use xylem::outputs::SliceSet;
+
+use super::progress::Progress;
 
 /// Synthesise a solid texture with a trained NCA: the volume, its faces, cuts and cross.
 #[derive(Args, Debug)]

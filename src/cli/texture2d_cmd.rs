@@ -3,7 +3,6 @@
 
 use std::path::{Path, PathBuf};
 
-use super::progress::Progress;
 use anyhow::{Result, bail};
 use clap::Args;
 use xylem::config::{Checker, write_config_copy};
@@ -11,6 +10,8 @@ use xylem::device::DeviceKind;
 use xylem::io::{OutputDir, load_rgb, save_png, write_bytes_atomic};
 use xylem::loss::{LossConfig, Texture2dConfig, synthesize};
 use xylem::report::captioned_row;
+
+use super::progress::Progress;
 
 /// Optimise an image from noise until its style-loss statistics match a photo's.
 #[derive(Args, Debug)]

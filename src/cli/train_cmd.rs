@@ -2,7 +2,6 @@
 
 use std::path::PathBuf;
 
-use super::progress::Progress;
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use xylem::device::DeviceKind;
@@ -16,6 +15,9 @@ use xylem::nca::session::{TrainOptions, run_training, saved_config};
 use xylem::nca::targets::photo_mean;
 use xylem::nca::train::TrainData;
 use xylem::sample::{Needs, Sample, parse_faces};
+
+use super::json_out::{Summary, say};
+use super::progress::Progress;
 
 /// Train the 3D neural cellular automaton on the six (or fewer) face photos of a sample.
 #[derive(Args, Debug)]
@@ -136,6 +138,7 @@ pub fn run(args: TrainArgs) -> Result<()> {
     let loss = face_loss(&config, &data, &args.device.device())?;
     let total = config.schedule.iterations as u64;
     let bar = Progress::new("train", total);
+    let started = std::time::Instant::now();
     let options = TrainOptions {
         resume: args.resume,
         stop_after: args.stop_after,
@@ -162,16 +165,24 @@ pub fn run(args: TrainArgs) -> Result<()> {
     .with_context(|| format!("training into {}", args.out.display()))?;
     bar.finish();
     if outcome.finished {
-        println!(
+        say(&format!(
             "trained {} iterations; model in {} (model.bpk, loss.png)",
             outcome.iterations,
             args.out.display()
-        );
+        ));
     } else {
-        println!(
+        say(&format!(
             "stopped after {} iterations; continue with --resume",
             outcome.iterations
-        );
+        ));
     }
+    let last_loss = outcome.rows.last().map_or(f64::NAN, |r| f64::from(r.loss));
+    Summary::new("train")
+        .text("out", &args.out.display().to_string())
+        .integer("iterations", outcome.iterations as u64)
+        .flag("finished", outcome.finished)
+        .number("last_loss", last_loss)
+        .number("seconds", started.elapsed().as_secs_f64())
+        .emit();
     Ok(())
 }
