@@ -48,6 +48,13 @@ pub struct FilterConfig {
     /// tell the two apart.
     #[serde(default = "default_elongation")]
     pub elongation: f32,
+    /// Norm of two more filters per kernel size: a round second derivative of a Gaussian on
+    /// each opponent colour axis (red-green, yellow-blue). 0 (default): none. The photos'
+    /// chroma varies slowly; random RGB filters respond mostly to lightness, so speckle of
+    /// pink and green costs the loss almost nothing. These filters see chroma edges only,
+    /// and a norm above 1 weighs them above the unit-norm filters in every projection.
+    #[serde(default)]
+    pub chroma: f32,
 }
 
 fn default_elongation() -> f32 {
@@ -179,6 +186,19 @@ impl FilterConfig {
             8.0,
             "length-to-width ratio of the oriented filters",
         )?;
+        check.range(
+            "chroma",
+            self.chroma,
+            0.0,
+            16.0,
+            "norm of the chroma-edge filters (0: none)",
+        )?;
+        if self.chroma > 0.0 && self.kernel_sizes.contains(&1) {
+            return Err(check.error(
+                "kernel_sizes",
+                "contains 1 while `chroma` > 0: chroma-edge filters need kernels of 3 or more",
+            ));
+        }
         if self.random + self.orientations == 0 {
             return Err(check.error("random", "= 0 and `orientations` = 0: the bank is empty"));
         }

@@ -16,6 +16,13 @@ use crate::rng::Rng;
 /// Rec. 709 luminance weights: oriented filters act on luminance.
 const LUMA: [f32; 3] = [0.2126, 0.7152, 0.0722];
 
+/// The two opponent colour axes (red-green, yellow-blue), orthogonal to grey.
+fn opponent_axes() -> [[f32; 3]; 2] {
+    let s2 = std::f32::consts::FRAC_1_SQRT_2;
+    let s6 = 1.0 / 6f32.sqrt();
+    [[s2, -s2, 0.0], [s6, s6, -2.0 * s6]]
+}
+
 /// One kernel size's filters.
 #[derive(Clone, Debug)]
 pub struct FilterBank {
@@ -41,7 +48,11 @@ pub fn filter_banks(cfg: &FilterConfig, seed: u64, device: &Device) -> Vec<Filte
                 data.extend(oriented_filter(k, angle, 1, cfg.elongation));
                 data.extend(oriented_filter(k, angle, 2, cfg.elongation));
             }
-            let count = cfg.random + 2 * cfg.orientations;
+            let chroma = if cfg.chroma > 0.0 { 2 } else { 0 };
+            for axis in opponent_axes().iter().take(chroma) {
+                data.extend(chroma_filter(k, axis, cfg.chroma));
+            }
+            let count = cfg.random + 2 * cfg.orientations + chroma;
             FilterBank {
                 size: k,
                 weights: Tensor::from_data(TensorData::new(data, [count, 3, k, k]), device),
@@ -90,6 +101,29 @@ fn oriented_filter(k: usize, angle: f32, order: u32, elongation: f32) -> Vec<f32
         .flat_map(|l| base.iter().map(move |v| v * l))
         .collect();
     normalise(&mut w);
+    w
+}
+
+/// A round second derivative of a Gaussian (sigma a quarter of the kernel side) on one colour
+/// axis: `[3, k, k]`, zero-mean, of norm `norm`. Grey images give no response.
+fn chroma_filter(k: usize, axis: &[f32; 3], norm: f32) -> Vec<f32> {
+    let r = (k as f32 - 1.0) / 2.0;
+    let sigma = (k as f32 / 4.0).max(0.5);
+    let mut base: Vec<f32> = (0..k * k)
+        .map(|i| {
+            let (y, x) = ((i / k) as f32 - r, (i % k) as f32 - r);
+            let q = (x * x + y * y) / (sigma * sigma);
+            (q - 2.0) * (-q / 2.0).exp()
+        })
+        .collect();
+    let mean = base.iter().sum::<f32>() / base.len() as f32;
+    base.iter_mut().for_each(|v| *v -= mean);
+    let mut w: Vec<f32> = axis
+        .iter()
+        .flat_map(|a| base.iter().map(move |v| v * a))
+        .collect();
+    normalise(&mut w);
+    w.iter_mut().for_each(|v| *v *= norm);
     w
 }
 
