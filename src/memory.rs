@@ -53,3 +53,19 @@ pub fn check_fits(what: &str, needed: f64, lower: &str) -> Result<()> {
         ),
     ))
 }
+
+/// Resets this process's peak resident memory (Linux `VmHWM`) to the current resident
+/// size, so that [`peak_resident_bytes`] afterwards measures one stage of a job, not the
+/// whole process. `None` where the kernel does not offer it (no `/proc`, not permitted).
+pub fn reset_peak_resident() -> Option<()> {
+    std::fs::write("/proc/self/clear_refs", "5").ok()
+}
+
+/// The peak resident memory of this process since it started or since the last
+/// [`reset_peak_resident`], in bytes (Linux `VmHWM`); `None` where it cannot be read.
+pub fn peak_resident_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}

@@ -24,7 +24,8 @@ use super::run_cmd::{self, NcaPreset, RunArgs};
 Writes DIR/sample/ (the synthetic photographed cube, Mokume layout, truth in truth/), and
 everything `xylem run` writes: fit/, train/, synth/, unfolded.png (truth | NCA), sheet.png
 (faces and cuts: truth, fitted rings, base colour, procedural truth, NCA), renders/,
-metrics.csv and report/index.html. Re-running continues where an interrupted demo stopped.")]
+metrics.csv, timings.csv and report/index.html (titled xylem demo: SPECIES). Re-running
+continues where an interrupted demo stopped.")]
 pub struct DemoArgs {
     /// Output folder.
     #[arg(long, short = 'o', default_value = "out/demo")]

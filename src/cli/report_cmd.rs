@@ -1,20 +1,21 @@
-//! `xylem report`: one static HTML page gathering a run's sheets, renders, loss curves and
-//! metrics.
+//! `xylem report`: one static HTML page gathering a run's metrics, cuts, sheets, renders,
+//! loss curves, stage timings and configs (`xylem::report::html`).
 
 use std::path::PathBuf;
 
 use anyhow::{Result, bail};
 use clap::Args;
 use xylem::io::check_new_file;
-use xylem::report::write_report;
+use xylem::report::{default_title, write_report};
 
-/// Gather a run folder's sheets, renders, loss curves and metrics table into one HTML page.
+/// Gather a run folder's metrics, cuts, sheets, renders, loss curves, timings and configs
+/// into one HTML page.
 #[derive(Args, Debug)]
 #[command(after_help = "Example:
   xylem report --run out/demo --out out/demo/report/index.html
 
 The page links the run's images with relative paths, so the run folder can be moved or
-served as a whole.")]
+served as a whole; the same folder always gives the same page.")]
 pub struct ReportArgs {
     /// The run folder (as written by `xylem demo` or `xylem run`).
     #[arg(long)]
@@ -26,9 +27,10 @@ pub struct ReportArgs {
     /// Replace an existing --out file.
     #[arg(long)]
     pub force: bool,
-    /// Page title.
-    #[arg(long, default_value = "xylem run")]
-    pub title: String,
+    /// Page title (default: "xylem run: SAMPLE" with the sample folder's name from
+    /// RUN/run.toml, or "xylem demo: SPECIES" for a demo).
+    #[arg(long)]
+    pub title: Option<String>,
 }
 
 pub fn run(args: ReportArgs) -> Result<()> {
@@ -52,7 +54,8 @@ pub fn run(args: ReportArgs) -> Result<()> {
             out
         }
     };
-    let images = write_report(&args.run, &out, &args.title)?;
+    let title = args.title.unwrap_or_else(|| default_title(&args.run));
+    let images = write_report(&args.run, &out, &title)?;
     println!("wrote {} ({images} images)", out.display());
     Ok(())
 }

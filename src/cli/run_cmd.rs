@@ -1,7 +1,8 @@
 //! `xylem run`: the whole pipeline on one sample folder: fit -> NCA training -> synthesis ->
 //! comparison sheet, renders, metrics -> HTML report, all inside one run folder. Steps whose
 //! outputs exist are skipped and an interrupted training resumes, so re-running the same
-//! command continues a killed run.
+//! command continues a killed run. Each stage's wall time and peak memory go into
+//! `RUN/timings.csv` as it finishes, for the report and for planning bigger runs.
 
 use std::path::{Path, PathBuf};
 
@@ -16,7 +17,10 @@ use xylem::outputs::{CROSS_BACKGROUND, SliceSet};
 use xylem::procedural::{ProceduralWood, SpeciesConfig};
 use xylem::render::lathe::{SHIPPED_SEGMENTS, turned_bowl};
 use xylem::render::{RenderConfig, Shape, render, turntable};
-use xylem::report::{Column, SHEET_ROWS, captioned_row, comparison_sheet, write_report};
+use xylem::report::{
+    Column, SHEET_ROWS, StageClock, TIMINGS_FILE, Timings, captioned_row, comparison_sheet,
+    default_title, write_report,
+};
 use xylem::sample::parse_faces;
 use xylem::slice::unfold_cross;
 use xylem::texture::SolidTexture;
@@ -58,10 +62,11 @@ impl NcaPreset {
 
 Writes into RUN: fit/ (xylem fit), train/ (xylem train), synth/ (xylem synth), sheet.png
 (rows: faces A-F, cut1, cut2; columns: photo or truth, fitted rings, base colour,
-procedural, NCA), renders/, metrics.csv, phase.csv and report/index.html. Re-running the
-same command skips finished steps and resumes an interrupted training; RUN/run.toml records
-the sample (with a hash of its files), faces, configs and options, and a call with other
-ones is refused with the differences named (use another --out).")]
+procedural, NCA), renders/, metrics.csv, phase.csv, timings.csv (time and peak memory per
+stage) and report/index.html. Re-running the same command skips finished steps and resumes
+an interrupted training; RUN/run.toml records the sample (with a hash of its files), faces,
+configs and options, and a call with other ones is refused with the differences named (use
+another --out).")]
 pub struct RunArgs {
     /// Sample folder (Mokume layout; a `truth/` folder, as `xylem sample` writes, adds the
     /// true cuts to the sheet and the metrics).
@@ -109,9 +114,19 @@ pub fn run(args: RunArgs) -> Result<()> {
     };
     let started = STAGES.iter().any(|d| out.path(d).exists());
     run_provenance(&args, &faces)?.check_or_record(&out.path(RUN_RECORD), started)?;
-    fit_step(&args, &out)?;
-    train_step(&args, &out)?;
-    synth_step(&args, &out)?;
+    let mut log = StageLog::open(&out);
+    let clock = StageClock::start();
+    let skipped = fit_step(&args, &out)?;
+    log.finish(clock, "fit", skipped)?;
+    let clock = StageClock::start();
+    let skipped = train_step(&args, &out)?;
+    log.finish(clock, "train", skipped)?;
+    let clock = StageClock::start();
+    let skipped = synth_step(&args, &out)?;
+    log.finish(clock, "synth", skipped)?;
+
+    step("sheet");
+    let clock = StageClock::start();
     let fit = FieldConfig::load(&out.path("fit/fit.toml"))?;
     let nca = xylem::io::npy::read_volume(&out.path("synth/volume.npy"))?;
     let truth = truth_species(&args.sample)?;
@@ -122,7 +137,6 @@ pub fn run(args: RunArgs) -> Result<()> {
     let procedural = ProceduralWood::new(&species);
     let base = base_colour(&fit)?;
     let reference = reference_column(&args.sample)?;
-    step("sheet");
     let sheet = SheetInputs {
         fit: &fit,
         base: &base,
@@ -133,22 +147,81 @@ pub fn run(args: RunArgs) -> Result<()> {
     };
     write_sheet(&args, &out, &sheet)?;
     write_unfolded(&args, &out, &reference, &nca)?;
+    log.finish(clock, "sheet", false)?;
+
     step("renders");
+    let clock = StageClock::start();
     write_renders(&args, &out, &base, &procedural, &nca)?;
+    log.finish(clock, "renders", false)?;
+
     step("metrics");
+    let clock = StageClock::start();
     let table = run_metrics::metrics_table(&args.sample, &faces, &fit, &procedural, &nca)?;
     write_bytes_atomic(&out.path("metrics.csv"), table.to_csv().as_bytes())?;
     let textures: [(&str, &dyn SolidTexture); 2] = [("nca", &nca), ("procedural", &procedural)];
     let phase = run_metrics::phase_table(&reference, &fit, &textures, 256)?;
     write_bytes_atomic(&out.path("phase.csv"), phase.to_csv().as_bytes())?;
+    log.finish(clock, "metrics", false)?;
+
     step("report");
-    let title = format!("xylem run: {}", args.sample.display());
-    let images = write_report(out.root(), &out.path("report/index.html"), &title)?;
+    let clock = StageClock::start();
+    write_run_report(&out)?;
+    log.finish(clock, "report", false)?;
+    // Again, so that the page shows the report's own row: the same page `xylem report`
+    // writes from the finished folder.
+    let images = write_run_report(&out)?;
     println!(
         "wrote {}/report/index.html ({images} images)",
         args.out.display()
     );
     Ok(())
+}
+
+/// The report of the run folder, titled from its record like `xylem report` does.
+fn write_run_report(out: &OutputDir) -> Result<usize> {
+    let title = default_title(out.root());
+    Ok(write_report(
+        out.root(),
+        &out.path("report/index.html"),
+        &title,
+    )?)
+}
+
+/// `RUN/timings.csv`, rewritten after every stage, so that a killed run keeps the cost of
+/// the stages it finished and its resumption can show them (see [`Timings::record`]).
+struct StageLog {
+    path: PathBuf,
+    earlier: Option<Timings>,
+    now: Timings,
+}
+
+impl StageLog {
+    /// Starts this call's table; an unreadable earlier table is reported and replaced
+    /// (it only costs the earlier rows of skipped stages).
+    fn open(out: &OutputDir) -> Self {
+        let path = out.path(TIMINGS_FILE);
+        let earlier = if path.is_file() {
+            Timings::read(&path)
+                .map_err(|e| eprintln!("warning: {e}; its rows are not kept"))
+                .ok()
+        } else {
+            None
+        };
+        Self {
+            path,
+            earlier,
+            now: Timings::default(),
+        }
+    }
+
+    fn finish(&mut self, clock: StageClock, stage: &str, skipped: bool) -> Result<()> {
+        self.now
+            .record(clock.finish(stage, skipped), self.earlier.as_ref());
+        Ok(write_bytes_atomic(
+            &self.path,
+            self.now.to_csv().as_bytes(),
+        )?)
+    }
 }
 
 /// What the run folder was made with (`RUN/run.toml`, compared on every re-run).
@@ -193,11 +266,13 @@ fn step(name: &str) {
     eprintln!("== {name}");
 }
 
-fn fit_step(args: &RunArgs, out: &OutputDir) -> Result<()> {
+/// Runs the fit unless it is done; returns whether it was skipped (as for the other
+/// reusable stages).
+fn fit_step(args: &RunArgs, out: &OutputDir) -> Result<bool> {
     let dir = out.path("fit");
     if done(&dir) {
         step("fit (done, skipped)");
-        return Ok(());
+        return Ok(true);
     }
     step("fit");
     fit_cmd::run(fit_cmd::FitArgs {
@@ -206,15 +281,16 @@ fn fit_step(args: &RunArgs, out: &OutputDir) -> Result<()> {
         faces: args.faces.clone(),
         config: args.fit_config.clone(),
     })?;
-    mark_done(&dir)
+    mark_done(&dir)?;
+    Ok(false)
 }
 
-fn train_step(args: &RunArgs, out: &OutputDir) -> Result<()> {
+fn train_step(args: &RunArgs, out: &OutputDir) -> Result<bool> {
     let dir = out.path("train");
     // Training writes model.bpk only when it has done all its iterations.
     if dir.join("model.bpk").is_file() {
         step("train (done, skipped)");
-        return Ok(());
+        return Ok(true);
     }
     let resume = xylem::nca::snapshot::exists(&dir);
     step(if resume { "train (resuming)" } else { "train" });
@@ -235,14 +311,15 @@ fn train_step(args: &RunArgs, out: &OutputDir) -> Result<()> {
         resume,
         faces: if resume { None } else { args.faces.clone() },
         stop_after: None,
-    })
+    })?;
+    Ok(false)
 }
 
-fn synth_step(args: &RunArgs, out: &OutputDir) -> Result<()> {
+fn synth_step(args: &RunArgs, out: &OutputDir) -> Result<bool> {
     let dir = out.path("synth");
     if done(&dir) {
         step("synth (done, skipped)");
-        return Ok(());
+        return Ok(true);
     }
     step("synth");
     synth_cmd::run(synth_cmd::SynthArgs {
@@ -254,7 +331,8 @@ fn synth_step(args: &RunArgs, out: &OutputDir) -> Result<()> {
         device: args.device,
         engine: args.engine,
     })?;
-    mark_done(&dir)
+    mark_done(&dir)?;
+    Ok(false)
 }
 
 /// The species config of a synthetic sample (`truth/species.toml`), if it has one.

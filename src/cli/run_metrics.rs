@@ -6,6 +6,11 @@
 //! out with `--faces`), and, when neither exists, the photos of the faces trained on (marked
 //! "(trained)": they show how well the method reproduces its own targets, not how well it
 //! predicts).
+//!
+//! Methods: every column of the sheet that is a candidate (NCA, base colour, procedural).
+//! On a synthetic sample the procedural texture is the truth itself; its rows are kept,
+//! named "procedural (truth)", because they show the best each metric can read on that
+//! image (the report does not rank them).
 
 use std::path::Path;
 
@@ -18,7 +23,7 @@ use xylem::io::load_rgb;
 use xylem::loss::LossConfig;
 use xylem::metrics::{Comparer, METRIC_NAMES};
 use xylem::procedural::ProceduralWood;
-use xylem::report::MetricsTable;
+use xylem::report::{MetricsTable, TRUTH_MARK};
 use xylem::slice::slice_plane;
 use xylem::texture::SolidTexture;
 use xylem::volume::Volume;
@@ -73,12 +78,12 @@ pub fn metrics_table(
     procedural: &ProceduralWood,
     nca: &Volume,
 ) -> Result<MetricsTable> {
-    let synthetic = sample.join("truth/species.toml").is_file();
     let comparer = Comparer::new(&LossConfig::default_config(), &Device::flex());
     let field = GrowthField::from_config(fit);
     let colour = fit.base_colour.clone();
     let mut header = vec!["method".to_string(), "image".to_string()];
     header.extend(METRIC_NAMES.iter().map(|s| s.to_string()));
+    let procedural_name = &procedural_method(sample);
     let mut rows = Vec::new();
     for reference in references(sample, trained)? {
         let base = colour
@@ -88,10 +93,7 @@ pub fn metrics_table(
         if let Some(b) = &base {
             methods.push(("base colour", b));
         }
-        if !synthetic {
-            // On a synthetic sample the procedural texture is the truth itself.
-            methods.push(("procedural", procedural));
-        }
+        methods.push((procedural_name, procedural));
         let (w, h) = (reference.image.width, reference.image.height);
         for (method, texture) in methods {
             let candidate = slice_plane(texture, &reference.plane, w, h);
@@ -102,6 +104,16 @@ pub fn metrics_table(
         }
     }
     Ok(MetricsTable { header, rows })
+}
+
+/// The procedural texture's method name: on a synthetic sample (one with
+/// `truth/species.toml`) it is the truth and says so.
+fn procedural_method(sample: &Path) -> String {
+    if sample.join("truth/species.toml").is_file() {
+        format!("procedural {TRUTH_MARK}")
+    } else {
+        "procedural".into()
+    }
 }
 
 /// Phase bins of the pore-density curves.
