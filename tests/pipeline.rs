@@ -157,23 +157,45 @@ fn run_on_real_data_reports_the_held_out_face() {
     let dir = scratch("run-cn03");
     let nca = tiny_nca(&dir);
     let run = dir.join("run");
-    run_ok(
-        xylem()
-            .args([
-                "run",
-                "--faces",
-                "A,B,C,D,E",
-                "--synth-steps",
-                "2",
-                "--image-size",
-                "64",
-            ])
-            .arg("--sample")
-            .arg(data.join("CN03"))
-            .arg("--nca-config")
-            .arg(&nca)
-            .arg("--out")
-            .arg(&run),
+    let output = xylem()
+        .args([
+            "run",
+            "--json",
+            "--faces",
+            "A,B,C,D,E",
+            "--synth-steps",
+            "2",
+            "--image-size",
+            "64",
+        ])
+        .arg("--sample")
+        .arg(data.join("CN03"))
+        .arg("--nca-config")
+        .arg(&nca)
+        .arg("--out")
+        .arg(&run)
+        .output()
+        .expect("run xylem");
+    assert!(
+        output.status.success(),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    // --json: stdout is one summary object with every stage and the NCA's metrics.
+    let summary = String::from_utf8_lossy(&output.stdout);
+    assert_eq!(summary.lines().count(), 1, "{summary}");
+    assert!(summary.starts_with("{\"command\": \"run\""), "{summary}");
+    for stage in [
+        "fit", "train", "synth", "sheet", "renders", "metrics", "report",
+    ] {
+        assert!(
+            summary.contains(&format!("{{\"stage\": \"{stage}\", \"seconds\": ")),
+            "{stage}: {summary}"
+        );
+    }
+    assert!(
+        summary.contains("\"image\": \"F (held out)\", \"ring_ncc\": "),
+        "{summary}"
     );
     let rows = metric_rows(&run);
     for method in ["nca", "base colour", "procedural"] {

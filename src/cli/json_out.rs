@@ -46,6 +46,14 @@ impl Summary {
         }
     }
 
+    /// A nested object (no `command` field), for arrays of records inside a summary.
+    pub fn new_object() -> Self {
+        Self {
+            command: String::new(),
+            fields: Vec::new(),
+        }
+    }
+
     pub fn text(mut self, key: &str, value: &str) -> Self {
         self.fields.push((key.into(), quote(value)));
         self

@@ -18,14 +18,15 @@ use xylem::procedural::{ProceduralWood, SpeciesConfig};
 use xylem::render::lathe::{SHIPPED_SEGMENTS, turned_bowl};
 use xylem::render::{RenderConfig, Shape, render, turntable};
 use xylem::report::{
-    Column, SHEET_ROWS, StageClock, TIMINGS_FILE, Timings, captioned_row, comparison_sheet,
-    default_title, write_report,
+    Column, MetricsTable, SHEET_ROWS, StageClock, TIMINGS_FILE, Timings, captioned_row,
+    comparison_sheet, default_title, write_report,
 };
 use xylem::sample::parse_faces;
 use xylem::slice::unfold_cross;
 use xylem::texture::SolidTexture;
 use xylem::volume::Volume;
 
+use super::json_out::{Summary, say};
 use super::{fit_cmd, run_metrics, synth_cmd, train_cmd};
 
 /// The built-in NCA configs: `configs/nca/quick.toml` (the demo) and
@@ -170,11 +171,52 @@ pub fn run(args: RunArgs) -> Result<()> {
     // Again, so that the page shows the report's own row: the same page `xylem report`
     // writes from the finished folder.
     let images = write_run_report(&out)?;
-    println!(
+    say(&format!(
         "wrote {}/report/index.html ({images} images)",
         args.out.display()
-    );
+    ));
+    run_summary(&args, &log.now, &table).emit();
     Ok(())
+}
+
+/// `--json`: the run folder, its stages' cost and the NCA's metrics per reference image.
+fn run_summary(args: &RunArgs, timings: &Timings, table: &MetricsTable) -> Summary {
+    let stages: Vec<String> = timings
+        .stages
+        .iter()
+        .map(|t| {
+            Summary::new_object()
+                .text("stage", &t.stage)
+                .number("seconds", t.seconds)
+                .number("peak_mb", t.peak_mb.unwrap_or(f64::NAN))
+                .flag("skipped", t.skipped)
+                .to_json()
+        })
+        .collect();
+    let nca_rows: Vec<String> = table
+        .rows
+        .iter()
+        .filter(|row| row.first().is_some_and(|m| m == "nca"))
+        .map(|row| {
+            let mut object = Summary::new_object();
+            for (key, value) in table.header.iter().zip(row).skip(1) {
+                object = match value.parse::<f64>() {
+                    Ok(v) => object.number(key, v),
+                    Err(_) => object.text(key, value),
+                };
+            }
+            object.to_json()
+        })
+        .collect();
+    Summary::new("run")
+        .text("sample", &args.sample.display().to_string())
+        .text("out", &args.out.display().to_string())
+        .text(
+            "report",
+            &args.out.join("report/index.html").display().to_string(),
+        )
+        .raw("stages", format!("[{}]", stages.join(", ")))
+        .raw("nca_metrics", format!("[{}]", nca_rows.join(", ")))
 }
 
 /// The report of the run folder, titled from its record like `xylem report` does.

@@ -13,6 +13,7 @@ use xylem::nca::model_dir::TrainedModel;
 use xylem::nca::synth::{SynthOptions, ValueRange, synthesise};
 use xylem::outputs::SliceSet;
 
+use super::json_out::say;
 use super::progress::Progress;
 
 /// Synthesise a solid texture with a trained NCA: the volume, its faces, cuts and cross.
@@ -77,9 +78,9 @@ pub fn run(args: SynthArgs) -> Result<()> {
         &trained.meta,
         &args.model.display().to_string(),
     )?;
-    println!(
+    say(&format!(
         "wrote {}/volume.npy and its faces, cuts and unfolded.png",
         args.out.display()
-    );
+    ));
     Ok(())
 }
