@@ -13,7 +13,7 @@ use crate::io::write_bytes_atomic;
 /// Reads and parses a TOML file into `T`. Parse errors (syntax, unknown key, wrong type)
 /// carry the parser's message, which names the key and the line.
 pub fn load_toml<T: DeserializeOwned + Serialize>(path: &Path) -> Result<T> {
-    let text = std::fs::read_to_string(path).map_err(|e| XylemError::io(path, e))?;
+    let text = crate::io::read_text(path, "a TOML file")?;
     parse_toml(&text, path)
 }
 

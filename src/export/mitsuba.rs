@@ -41,7 +41,7 @@ fn i32_at(bytes: &[u8], at: usize) -> i32 {
 
 /// Reads a float32 Mitsuba `.vol` file back into `[X, Y, Z, C]` (and its bounding box).
 pub fn read_vol(path: &Path) -> Result<(Volume, [f32; 6])> {
-    let bytes = std::fs::read(path).map_err(|e| XylemError::io(path, e))?;
+    let bytes = crate::io::read_bytes(path, "a Mitsuba .vol file")?;
     if bytes.len() < HEADER_LEN || &bytes[..3] != b"VOL" || bytes[3] != 3 {
         return Err(bad(
             path,
@@ -65,11 +65,18 @@ pub fn read_vol(path: &Path) -> Result<(Volume, [f32; 6])> {
         f32::from_le_bytes(bytes[24 + 4 * i..28 + 4 * i].try_into().expect("4 bytes"))
     });
     let payload = &bytes[HEADER_LEN..];
-    if payload.len() != nx * ny * nz * c * 4 {
+    // Checked: crafted dimensions (each up to 2^31) overflow the byte count.
+    let needed = [nx, ny, nz, c]
+        .iter()
+        .try_fold(4usize, |acc, &d| acc.checked_mul(d));
+    if needed != Some(payload.len()) {
+        let expected = needed.map_or("more than can be addressed".to_string(), |n| {
+            format!("expected {n}")
+        });
         return Err(bad(
             path,
             format!(
-                "{} data bytes for {nx}x{ny}x{nz}x{c} float32 values",
+                "{} data bytes for {nx}x{ny}x{nz}x{c} float32 values ({expected})",
                 payload.len()
             ),
         ));

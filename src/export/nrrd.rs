@@ -77,7 +77,7 @@ fn bad(path: &Path, message: impl Into<String>) -> XylemError {
 
 /// Reads a raw float32 NRRD written by [`write_nrrd`] (sizes `[C] X Y Z`, x fastest).
 pub fn read_nrrd(path: &Path) -> Result<Volume> {
-    let bytes = std::fs::read(path).map_err(|e| XylemError::io(path, e))?;
+    let bytes = crate::io::read_bytes(path, "a NRRD file")?;
     let split = bytes
         .windows(2)
         .position(|w| w == b"\n\n")
@@ -111,6 +111,12 @@ pub fn read_nrrd(path: &Path) -> Result<Volume> {
             ));
         }
     };
+    if c == 0 || [nx, ny, nz].contains(&0) {
+        return Err(bad(
+            path,
+            format!("sizes {sizes:?}: expected every size > 0 (an empty volume)"),
+        ));
+    }
     let payload = &bytes[split + 2..];
     let count = nx
         .checked_mul(ny)

@@ -106,7 +106,7 @@ fn header_value<'a>(text: &'a str, key: &str) -> Option<&'a str> {
 
 /// Reads a float32 `.npy` file: (shape, data).
 pub fn read_npy(path: &Path) -> Result<(Vec<usize>, Vec<f32>)> {
-    let bytes = std::fs::read(path).map_err(|e| XylemError::io(path, e))?;
+    let bytes = super::read::read_bytes(path, "a .npy file")?;
     if bytes.len() < 10 || &bytes[..6] != MAGIC {
         return Err(bad(path, "not a .npy file (missing \\x93NUMPY magic)"));
     }
@@ -160,6 +160,12 @@ pub fn read_volume(path: &Path) -> Result<Volume> {
         return Err(bad(
             path,
             format!("volume must have shape [X, Y, Z, C], got {shape:?}"),
+        ));
+    }
+    if shape.contains(&0) {
+        return Err(bad(
+            path,
+            format!("volume shape {shape:?} has an empty axis; expected [X, Y, Z, C], all > 0"),
         ));
     }
     Volume::from_data([shape[0], shape[1], shape[2]], shape[3], data)

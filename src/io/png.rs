@@ -4,7 +4,8 @@
 use std::io::Cursor;
 use std::path::Path;
 
-use image::{DynamicImage, ImageFormat};
+use image::codecs::png::PngDecoder;
+use image::{DynamicImage, ImageDecoder, ImageFormat};
 
 use super::atomic::write_bytes_atomic;
 use crate::error::{Result, XylemError};
@@ -47,12 +48,40 @@ pub fn save_png(img: &Image2, path: &Path) -> Result<()> {
     write_bytes_atomic(path, &encode_png(img)?)
 }
 
+/// Largest ratio of decoded pixel bytes to file bytes a PNG can have: deflate, which holds
+/// PNG pixel data, compresses at most about 1032:1, so a file claiming more pixels than
+/// this allows is truncated or crafted (a 53-byte file claiming 16384 x 16384 pixels),
+/// and is refused before its pixel buffer is allocated.
+const MAX_PNG_RATIO: u64 = 1100;
+
 fn open(path: &Path) -> Result<DynamicImage> {
     if !path.exists() {
         return Err(XylemError::image(path, "file not found"));
     }
-    image::open(path)
-        .map_err(|e| XylemError::image(path, format!("cannot decode as an image: {e}")))
+    let bytes = super::read::read_bytes(path, "a PNG image")?;
+    let undecodable = |e: image::ImageError| {
+        XylemError::image(path, format!("cannot decode as a PNG image: {e}"))
+    };
+    // Limits all the decoder's allocations (text and colour-profile chunks included) by
+    // what the file's size can hold.
+    let budget = MAX_PNG_RATIO * bytes.len() as u64 + (1 << 20);
+    let mut limits = image::Limits::default();
+    limits.max_alloc = Some(budget);
+    let decoder = PngDecoder::with_limits(Cursor::new(&bytes[..]), limits).map_err(undecodable)?;
+    let (w, h) = decoder.dimensions();
+    let pixel_bytes =
+        u64::from(w) * u64::from(h) * u64::from(decoder.color_type().bytes_per_pixel());
+    if pixel_bytes > budget {
+        return Err(XylemError::image(
+            path,
+            format!(
+                "claims {w}x{h} pixels ({pixel_bytes} bytes decoded) in a file of {} bytes, \
+                 more than PNG compression can hold: the file is truncated or damaged",
+                bytes.len()
+            ),
+        ));
+    }
+    DynamicImage::from_decoder(decoder).map_err(undecodable)
 }
 
 /// Reads a PNG as RGB in [0, 1] (grey images are expanded).

@@ -31,7 +31,7 @@ impl Provenance {
 
     /// Records `path` and the hash of its bytes under `key` (and `key_hash`).
     pub fn with_file(self, key: &str, path: &Path) -> Result<Self> {
-        let bytes = fs::read(path).map_err(|e| XylemError::io(path, e))?;
+        let bytes = super::read::read_bytes(path, "a file to record")?;
         Ok(self
             .with(key, absolute(path))
             .with(&format!("{key}_hash"), hex(fnv1a(&bytes, FNV_OFFSET))))
@@ -40,6 +40,13 @@ impl Provenance {
     /// Records `dir` and one hash over the names and bytes of its regular files and those
     /// of its `truth/` subfolder (a sample folder: photos, ring images, knot markers).
     pub fn with_folder(self, key: &str, dir: &Path) -> Result<Self> {
+        // A mistyped folder would otherwise be recorded with the hash of nothing.
+        if !dir.is_dir() {
+            return Err(XylemError::input(
+                dir.display().to_string(),
+                format!("{key} folder not found"),
+            ));
+        }
         let mut hash = FNV_OFFSET;
         for sub in [dir.to_path_buf(), dir.join("truth")] {
             for path in sorted_files(&sub)? {
@@ -63,12 +70,13 @@ impl Provenance {
         self.with(key, hex(fnv1a(text.as_bytes(), FNV_OFFSET)))
     }
 
-    /// The first call writes `path`; later calls compare and fail on any difference,
-    /// naming each key with its recorded and its new value. `started` says whether the
-    /// folder already holds results (then a missing record is an error too: they were
-    /// made by an older xylem and nothing says what they came from).
+    /// Records `path` while the folder holds no results yet (`started` false: a record
+    /// left by a call that failed before producing anything describes nothing, and is
+    /// replaced); once it holds results, compares and fails on any difference, naming
+    /// each key with its recorded and its new value (and a missing record is an error
+    /// too: the results were made by an older xylem and nothing says what from).
     pub fn check_or_record(&self, path: &Path, started: bool) -> Result<()> {
-        if !path.is_file() {
+        if !started || !path.is_file() {
             if started {
                 return Err(XylemError::input(
                     path.display().to_string(),
@@ -81,7 +89,7 @@ impl Provenance {
             })?;
             return write_bytes_atomic(path, text.as_bytes());
         }
-        let text = fs::read_to_string(path).map_err(|e| XylemError::io(path, e))?;
+        let text = super::read::read_text(path, "a run record (TOML)")?;
         let old: Provenance = toml::from_str(&text).map_err(|e| {
             XylemError::input(
                 path.display().to_string(),

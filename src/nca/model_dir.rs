@@ -20,7 +20,7 @@ use crate::config::{Checker, load_toml, write_config_copy};
 use crate::error::{Result, XylemError};
 use crate::frame::Face;
 use crate::io::provenance::content_hash;
-use crate::io::write_bytes_atomic;
+use crate::io::{read_bytes, write_bytes_atomic};
 
 pub const WEIGHTS_FILE: &str = "model.bpk";
 pub const META_FILE: &str = "model.toml";
@@ -58,7 +58,7 @@ fn check_weights_hash(path: &Path, expected: Option<&str>) -> Result<()> {
     let Some(expected) = expected else {
         return Ok(());
     };
-    let bytes = std::fs::read(path).map_err(|e| XylemError::io(path, e))?;
+    let bytes = read_bytes(path, "a burnpack weights file (model.bpk)")?;
     let actual = content_hash(&bytes);
     if actual != expected {
         return Err(XylemError::input(
@@ -74,7 +74,7 @@ fn check_weights_hash(path: &Path, expected: Option<&str>) -> Result<()> {
 
 /// Hash of the weights file as written (for [`ModelMeta::weights_hash`]).
 pub fn weights_hash(path: &Path) -> Result<String> {
-    let bytes = std::fs::read(path).map_err(|e| XylemError::io(path, e))?;
+    let bytes = read_bytes(path, "a burnpack weights file (model.bpk)")?;
     Ok(content_hash(&bytes))
 }
 
@@ -90,7 +90,7 @@ pub fn save_weights(model: &Nca, path: &Path) -> Result<()> {
 
 /// Loads weights of the architecture `spec`.
 pub fn load_weights(spec: &ModelSpec, path: &Path, device: &Device) -> Result<Nca> {
-    let bytes = std::fs::read(path).map_err(|e| XylemError::io(path, e))?;
+    let bytes = read_bytes(path, "a burnpack weights file (model.bpk)")?;
     let bad = |e: String| {
         XylemError::input(
             path.display().to_string(),

@@ -18,6 +18,7 @@ use burn::tensor::Bytes;
 use serde::{Deserialize, Serialize};
 
 use super::loss_log::{LossRow, read_csv, write_csv};
+use super::model::Nca;
 use super::model_dir::{load_weights, save_weights};
 use super::pool::Pool;
 use super::region::Region;
@@ -113,6 +114,80 @@ pub fn exists(root: &Path) -> bool {
     dir.join("progress.toml").is_file() || old.join("progress.toml").is_file()
 }
 
+/// Checks `progress.toml` against the trainer it is restored into, before anything is
+/// read by its values: the iteration within the config's, one pool slot per configured
+/// slot, states of the config's shape (a crafted shape would otherwise size the pool).
+fn check_progress(progress: &Progress, trainer: &Trainer, path: &Path) -> Result<()> {
+    let bad = |message: String| XylemError::input(path.display().to_string(), message);
+    let total = trainer.config.schedule.iterations;
+    if progress.iteration > total {
+        return Err(bad(format!(
+            "iteration = {}: expected at most the config's {total} iterations",
+            progress.iteration
+        )));
+    }
+    let slots = trainer.config.pool.size;
+    if progress.pool_offsets.len() != slots {
+        return Err(bad(format!(
+            "pool_offsets has {} entries: expected one per pool slot of the config ({slots})",
+            progress.pool_offsets.len()
+        )));
+    }
+    let dims = trainer.state_dims();
+    if progress.state_dims != dims {
+        return Err(bad(format!(
+            "state_dims = {:?}: expected {dims:?} (the config's state channels and crop)",
+            progress.state_dims
+        )));
+    }
+    Ok(())
+}
+
+/// Reads the optimiser state's burnpack container on its own first and checks it against
+/// the model's parameters: burn's optimiser panics on a damaged or foreign record (a
+/// tensor without a parameter id, a rank it has no code for) instead of returning an
+/// error, and a state of another shape would panic at the next training step.
+fn check_optimiser_record(bytes: &[u8], model: &Nca, path: &Path) -> Result<()> {
+    use burn::store::burn_pack::Reader;
+    let bad = |message: String| {
+        XylemError::input(
+            path.display().to_string(),
+            format!("not the optimiser state of this checkpoint's model: {message}"),
+        )
+    };
+    let params: [(u64, Vec<usize>); 3] = [
+        (model.w1.id.val(), model.w1.dims().to_vec()),
+        (model.b1.id.val(), model.b1.dims().to_vec()),
+        (model.w2.id.val(), model.w2.dims().to_vec()),
+    ];
+    let shape_of = |id: u64| params.iter().find(|(p, _)| *p == id).map(|(_, s)| s);
+    let reader = Reader::from_bytes(Bytes::from_bytes_vec(bytes.to_vec()))
+        .map_err(|e| bad(format!("{e:?}")))?;
+    for (name, value) in reader.scalars() {
+        let Some(id) = name.strip_suffix(".__rank") else {
+            continue;
+        };
+        let expected = id.parse::<u64>().ok().and_then(shape_of).map(Vec::len);
+        if expected.is_none() || usize::try_from(*value).ok() != expected {
+            return Err(bad(format!(
+                "{name} = {value:?} is not the rank of a parameter"
+            )));
+        }
+    }
+    for tensor in reader.into_tensors().map_err(|e| bad(format!("{e:?}")))? {
+        let (name, _, shape, param_id, _) =
+            tensor.into_parts().map_err(|e| bad(format!("{e:?}")))?;
+        let expected = param_id.and_then(shape_of);
+        if expected.map(Vec::as_slice) != Some(shape.as_slice()) {
+            return Err(bad(format!(
+                "tensor {name:?} of shape {:?} belongs to no parameter of that shape",
+                shape.as_slice()
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// Restores the trainer from `root/checkpoint/` (or the previous checkpoint if a save was
 /// interrupted) and returns the log so far.
 pub fn load(root: &Path, trainer: &mut Trainer) -> Result<Vec<LossRow>> {
@@ -122,7 +197,9 @@ pub fn load(root: &Path, trainer: &mut Trainer) -> Result<Vec<LossRow>> {
     } else {
         old
     };
-    let progress: Progress = load_toml(&dir.join("progress.toml"))?;
+    let progress_path = dir.join("progress.toml");
+    let progress: Progress = load_toml(&progress_path)?;
+    check_progress(&progress, trainer, &progress_path)?;
     let spec = trainer.config.model.clone();
     trainer.model = load_weights(
         &spec,
@@ -130,14 +207,18 @@ pub fn load(root: &Path, trainer: &mut Trainer) -> Result<Vec<LossRow>> {
         &trainer.kind.autodiff_device(),
     )?;
     let path = dir.join("optimiser.bpk");
-    let bytes = fs::read(&path).map_err(io(&path))?;
+    let bytes = crate::io::read_bytes(&path, "the optimiser state of a checkpoint")?;
+    check_optimiser_record(&bytes, &trainer.model, &path)?;
     trainer.optimiser = adam()
         .from_bytes(Bytes::from_bytes_vec(bytes))
         .map_err(|e| XylemError::input(path.display().to_string(), format!("{e:?}")))?;
     let pool_path = dir.join("pool.npy");
     let (shape, values) = read_npy(&pool_path)?;
+    // check_progress made state_dims the trainer's, so this product is small.
     let per = progress.state_dims.iter().product::<usize>();
-    if shape.len() != 5 || shape[0] != progress.pool_offsets.len() || values.len() != shape[0] * per
+    if shape.len() != 5
+        || shape[0] != progress.pool_offsets.len()
+        || shape[1..] != progress.state_dims
     {
         return Err(XylemError::input(
             pool_path.display().to_string(),
@@ -178,16 +259,6 @@ pub fn load(root: &Path, trainer: &mut Trainer) -> Result<Vec<LossRow>> {
         )));
     }
     trainer.pool = Pool::from_data(slots, trainer.device())?;
-    let total = trainer.config.schedule.iterations;
-    if progress.iteration > total {
-        return Err(XylemError::input(
-            dir.join("progress.toml").display().to_string(),
-            format!(
-                "iteration = {}: expected at most the config's {total} iterations",
-                progress.iteration
-            ),
-        ));
-    }
     trainer.iteration = progress.iteration;
     let loss_path = dir.join("loss.csv");
     let rows = read_csv(&loss_path)?;
