@@ -8,7 +8,25 @@ use clap::Parser;
 fn main() {
     let args = cli::Cli::parse();
     if let Err(err) = cli::run(args) {
-        eprintln!("error: {err:#}");
+        eprintln!("error: {}", message(&err));
         std::process::exit(1);
     }
+}
+
+/// The error and its causes, each said once: library errors show their source in their own
+/// text (so they read well alone) and also expose it as their `source()`, which anyhow's
+/// `{:#}` would print a second time.
+fn message(err: &anyhow::Error) -> String {
+    let mut text = String::new();
+    for cause in err.chain() {
+        let part = cause.to_string();
+        if text.contains(&part) {
+            continue;
+        }
+        if !text.is_empty() {
+            text += ": ";
+        }
+        text += &part;
+    }
+    text
 }

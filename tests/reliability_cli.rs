@@ -436,17 +436,14 @@ fn bad_flag_values_are_refused_naming_the_flag() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// Bugs of the commands themselves (in `src/cli/`, `src/frame/plane.rs` or `src/error.rs`)
-/// found by this suite and left to the people editing those files; each test states the
-/// right behaviour and is ignored until the fix lands (`cargo test --test reliability_cli
-/// -- --ignored` shows them).
-mod known_cli_bugs {
+/// Bugs of the commands themselves (in `src/cli/`, `src/frame/plane.rs`, the error printer)
+/// that this suite found and that were then fixed; each test states the right behaviour.
+mod cli_bugs_found_by_the_suite {
     use super::*;
 
     /// `xylem run --species teak` on a sample without `truth/` runs fit, training and
     /// synthesis before it looks the species up, and then names `--preset`.
     #[test]
-    #[ignore = "src/cli/run_cmd.rs: --species is checked after the stages (see the issue 16 report)"]
     fn run_checks_species_before_the_stages() {
         let dir = reliability_support::scratch("rel-cli-species");
         let sample = dir.join("S");
@@ -474,7 +471,7 @@ mod known_cli_bugs {
         judge_run(
             "run --species teak",
             &outcome,
-            &error(&["--species \"teak\"", "oak"]),
+            &error(&["--species", "teak", "oak"]),
         );
         assert!(
             !dir.join("R/fit").exists(),
@@ -485,7 +482,6 @@ mod known_cli_bugs {
 
     /// `xylem demo --species teak` says `--preset "teak"`.
     #[test]
-    #[ignore = "src/cli/demo_cmd.rs: the species error names --preset (see the issue 16 report)"]
     fn demo_names_the_species_flag() {
         let dir = reliability_support::scratch("rel-cli-demo");
         let outcome = run(xylem()
@@ -494,7 +490,7 @@ mod known_cli_bugs {
         judge_run(
             "demo --species teak",
             &outcome,
-            &error(&["--species \"teak\""]),
+            &error(&["--species", "teak"]),
         );
         std::fs::remove_dir_all(&dir).unwrap();
     }
@@ -502,7 +498,6 @@ mod known_cli_bugs {
     /// A plane with edges of 1e30 cube units passes the parallel check (the cross product
     /// overflows to inf) and slices to an all-black image with exit code 0.
     #[test]
-    #[ignore = "src/frame/plane.rs: plane vectors are not bounded (see the issue 16 report)"]
     fn huge_plane_vectors_are_refused() {
         let dir = reliability_support::scratch("rel-cli-plane");
         let outcome = run(xylem()
@@ -528,7 +523,6 @@ mod known_cli_bugs {
     /// `xylem compare one.png one.png` on 1x1 images: "style target 0: is 1x1 ..." names
     /// no file.
     #[test]
-    #[ignore = "src/cli/compare_cmd.rs: the loss's size error names no file (see the issue 16 report)"]
     fn compare_names_a_too_small_image() {
         let dir = reliability_support::scratch("rel-cli-compare");
         let one = dir.join("one.png");
@@ -541,7 +535,6 @@ mod known_cli_bugs {
     /// An I/O error prints the OS message twice: "x.toml: No such file or directory (os
     /// error 2): No such file or directory (os error 2)".
     #[test]
-    #[ignore = "src/error.rs: XylemError::Io shows its source and the chain repeats it (see the issue 16 report)"]
     fn io_errors_say_it_once() {
         let dir = reliability_support::scratch("rel-cli-io");
         let outcome = run(xylem()
@@ -560,7 +553,6 @@ mod known_cli_bugs {
 
     /// `xylem train --fit FIFO` blocks forever reading it.
     #[test]
-    #[ignore = "src/nca/fit_source.rs: FitRecord::load reads a FIFO (see the issue 16 report)"]
     fn train_refuses_a_fifo_as_the_fit() {
         let dir = reliability_support::scratch("rel-cli-fifo");
         reliability_support::write_tiny_sample(&dir.join("S"), 16);

@@ -178,7 +178,12 @@ fn killed_stages_are_redone_and_changed_inputs_refused() {
             kill(
                 "train killed while saving a checkpoint (checkpoint.tmp left)",
                 Box::new(|run: &Path| {
-                    remove(&["train/model.bpk", "train/loss.png", "train/loss.csv"])(run);
+                    remove(&[
+                        "train/.done",
+                        "train/model.bpk",
+                        "train/loss.png",
+                        "train/loss.csv",
+                    ])(run);
                     copy_tree(
                         &run.join("train/checkpoint"),
                         &run.join("train/checkpoint.tmp"),
@@ -201,7 +206,7 @@ fn killed_stages_are_redone_and_changed_inputs_refused() {
             kill(
                 "train killed inside the checkpoint rename (only checkpoint.old)",
                 Box::new(|run: &Path| {
-                    remove(&["train/model.bpk", "train/loss.png"])(run);
+                    remove(&["train/.done", "train/model.bpk", "train/loss.png"])(run);
                     std::fs::rename(
                         run.join("train/checkpoint"),
                         run.join("train/checkpoint.old"),
@@ -477,13 +482,10 @@ fn killed_training_resumes_exactly_or_refuses() {
     std::fs::remove_dir_all(&i.dir).unwrap();
 }
 
-/// Known bug, left to the people editing `src/cli/run_cmd.rs`: the train stage counts as
-/// done as soon as `train/model.bpk` exists, but training writes model.bpk, then
-/// model.toml (with the weights' hash and the iteration count), loss.csv and loss.png; a
-/// kill between them is taken as a finished stage and loss.csv, loss.png and the
-/// model.toml record are never written.
+/// Training writes model.bpk, then model.toml (with the weights' hash and the iteration
+/// count), loss.csv and loss.png, then the stage's marker; a kill between them (no marker)
+/// must not be taken as a finished stage: the re-run resumes and writes the rest.
 #[test]
-#[ignore = "src/cli/run_cmd.rs train_step: model.bpk is taken as the completion marker (see the issue 16 report)"]
 fn training_killed_between_its_last_writes_is_finished() {
     let i = inputs("rel-resume-train-marker");
     let base = i.dir.join("R");
@@ -496,7 +498,12 @@ fn training_killed_between_its_last_writes_is_finished() {
         Some("0"),
     );
     std::fs::write(base.join("train/model.toml"), start).unwrap();
-    for f in ["train/loss.png", "train/loss.csv", "synth/.done"] {
+    for f in [
+        "train/.done",
+        "train/loss.png",
+        "train/loss.csv",
+        "synth/.done",
+    ] {
         std::fs::remove_file(base.join(f)).unwrap();
     }
     let outcome = run(xylem().args(run_args(&i, &base, &[])));

@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use clap::Args;
 use xylem::device::DeviceKind;
 use xylem::io::{check_new_file, load_rgb, save_png};
@@ -57,7 +57,15 @@ pub fn run(args: CompareArgs) -> Result<()> {
     };
     let reference = load_rgb(&args.reference)?;
     let candidate = load_rgb(&args.candidate)?;
-    let metrics = Comparer::new(&loss, &args.device.device()).compare(&reference, &candidate)?;
+    let metrics = Comparer::new(&loss, &args.device.device())
+        .compare(&reference, &candidate)
+        .with_context(|| {
+            format!(
+                "comparing {} with {}",
+                args.candidate.display(),
+                args.reference.display()
+            )
+        })?;
     if let Some(sheet) = &args.sheet {
         save_png(&difference_sheet(&reference, &candidate), sheet)?;
     }

@@ -31,7 +31,7 @@ pub struct DemoArgs {
     #[arg(long, short = 'o', default_value = "out/demo")]
     pub out: PathBuf,
     /// Species preset of the synthetic sample (oak, chestnut, maple, walnut, softwood, burl).
-    #[arg(long, default_value = "chestnut")]
+    #[arg(long, default_value = "chestnut", value_parser = super::presets::species_name)]
     pub species: String,
     /// Face image side of the synthetic sample, in pixels.
     #[arg(long, default_value_t = 256, value_parser = super::output_args::side_16_2048)]

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::Args;
 use xylem::field::FieldConfig;
-use xylem::presets::{load_field_preset, load_species_preset};
+use xylem::presets::{load_field_preset, load_species_preset, species_preset_names};
 use xylem::procedural::SpeciesConfig;
 
 #[derive(Args, Debug)]
@@ -52,6 +52,20 @@ impl SpeciesSource {
         Ok((
             load_species_preset(name)?,
             format!("built-in species preset {name}"),
+        ))
+    }
+}
+
+/// `--species NAME` of `run` and `demo`: a built-in species preset, checked when the command
+/// line is parsed (before any stage runs).
+pub fn species_name(name: &str) -> std::result::Result<String, String> {
+    let names = species_preset_names();
+    if names.contains(&name) {
+        Ok(name.to_string())
+    } else {
+        Err(format!(
+            "unknown species preset {name:?}; built-in presets: {}",
+            names.join(", ")
         ))
     }
 }

@@ -90,7 +90,7 @@ pub struct RunArgs {
     pub fit_config: Option<PathBuf>,
     /// Species whose procedural colours are shown on the fitted field in the sheet (a
     /// synthetic sample shows its own truth instead).
-    #[arg(long, default_value = "chestnut")]
+    #[arg(long, default_value = "chestnut", value_parser = super::presets::species_name)]
     pub species: String,
     /// NCA unroll steps of the synthesis (90, as the Mokume paper's inference).
     #[arg(long, default_value_t = 90, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=2048))]
@@ -108,11 +108,11 @@ pub struct RunArgs {
 }
 
 pub fn run(args: RunArgs) -> Result<()> {
-    let out = OutputDir::prepare(&args.out)?;
     let faces = match &args.faces {
         Some(list) => parse_faces(list)?,
         None => Face::ALL.to_vec(),
     };
+    let out = OutputDir::prepare(&args.out)?;
     let started = STAGES.iter().any(|d| out.path(d).exists());
     run_provenance(&args, &faces)?.check_or_record(&out.path(RUN_RECORD), started)?;
     let mut log = StageLog::open(&out);
@@ -329,8 +329,10 @@ fn fit_step(args: &RunArgs, out: &OutputDir) -> Result<bool> {
 
 fn train_step(args: &RunArgs, out: &OutputDir) -> Result<bool> {
     let dir = out.path("train");
-    // Training writes model.bpk only when it has done all its iterations.
-    if dir.join("model.bpk").is_file() {
+    // Training writes model.bpk, then model.toml, loss.csv and loss.png: only the marker
+    // written after all of them says the stage is complete (a kill between them resumes
+    // from the final checkpoint and writes the rest).
+    if done(&dir) {
         step("train (done, skipped)");
         return Ok(true);
     }
@@ -348,12 +350,15 @@ fn train_step(args: &RunArgs, out: &OutputDir) -> Result<bool> {
         sample: args.sample.clone(),
         fit: (!resume).then(|| out.path("fit")),
         config: (!resume).then_some(config),
-        out: dir,
+        out: dir.clone(),
         device: args.device,
         resume,
         faces: if resume { None } else { args.faces.clone() },
         stop_after: None,
     })?;
+    if dir.join("model.bpk").is_file() {
+        mark_done(&dir)?;
+    }
     Ok(false)
 }
 

@@ -137,6 +137,10 @@ fn plane_error(s: &str, message: &str) -> XylemError {
     )
 }
 
+/// Largest plane coordinate accepted (cube units; the cube is 1 wide). Larger values are
+/// typos, and from about 1e19 the parallel check's cross product overflows to infinity.
+const PLANE_LIMIT: f32 = 1000.0;
+
 fn parse_custom_plane(s: &str) -> Result<Plane, XylemError> {
     let parts: Vec<&str> = s.split(';').collect();
     if parts.len() != 3 {
@@ -146,13 +150,16 @@ fn parse_custom_plane(s: &str) -> Result<Plane, XylemError> {
     for (slot, part) in vecs.iter_mut().zip(&parts) {
         let nums: Result<Vec<f32>, _> = part.split(',').map(|x| x.trim().parse::<f32>()).collect();
         match nums {
-            Ok(n) if n.len() == 3 && n.iter().all(|x| x.is_finite()) => {
+            Ok(n) if n.len() == 3 && n.iter().all(|x| x.is_finite() && x.abs() <= PLANE_LIMIT) => {
                 *slot = Vec3::new(n[0], n[1], n[2])
             }
             _ => {
                 return Err(plane_error(
                     s,
-                    &format!("{part:?} is not three comma-separated finite numbers"),
+                    &format!(
+                        "{part:?} is not three comma-separated finite numbers within \
+                         +-{PLANE_LIMIT}"
+                    ),
                 ));
             }
         }

@@ -58,7 +58,8 @@ impl FitRecord {
         } else {
             path.to_path_buf()
         };
-        let text = std::fs::read_to_string(&file).map_err(|e| XylemError::io(&file, e))?;
+        let text =
+            crate::io::read_text(&file, "a fit.toml written by `xylem fit` or a field config")?;
         let table: toml::Table = parse_toml(&text, &file)?;
         let record = if table.contains_key("field") {
             load_toml::<FitRecord>(&file)?
