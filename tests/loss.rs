@@ -37,6 +37,7 @@ fn all_terms() -> LossConfig {
     cfg.filters.random = 4;
     cfg.filters.orientations = 1;
     cfg.filters.chroma = 1.0;
+    cfg.joint_colour = true;
     cfg.swd.projections = 4;
     cfg.weights.gram = 1.0;
     cfg.weights.mean = 1.0;
@@ -403,4 +404,49 @@ fn chroma_filters_see_chroma_speckle() {
         "chroma speckle: loss {with} with chroma filters vs {without} without"
     );
     assert!(loss_at(4.0, &target) < 1e-6, "the target against itself");
+}
+
+/// `joint_colour` axes see how lightness and chroma go together: dark pixels that are
+/// yellower (the photo's brown pores) against dark pixels that are bluer, with the same
+/// lightness and nearly the same chroma marginals.
+#[test]
+fn joint_colour_axes_see_the_coupling_of_lightness_and_chroma() {
+    let device = Device::flex();
+    let coupled = |sign: f32| {
+        let mut img = Image2::filled(32, 32, 3, 0.0);
+        for (n, px) in img.data.chunks_mut(3).enumerate() {
+            let l = 0.5 + 0.25 * ((n as f32) * 0.37).sin();
+            // Move along the yellow-blue axis (1, 1, -2)/sqrt(6) against lightness.
+            let yb = sign * 0.3 * (l - 0.5);
+            let [r, g, b] = [yb, yb, -2.0 * yb].map(|d| d / 6f32.sqrt());
+            px.copy_from_slice(&[l + r, l + g, l + b]);
+        }
+        img
+    };
+    let (brown, blue) = (coupled(-1.0), coupled(1.0));
+    let loss_at = |joint: bool, img: &Image2| {
+        let mut cfg = all_terms();
+        cfg.weights = xylem::loss::config::LossWeights {
+            gram: 0.0,
+            mean: 0.0,
+            covariance: 0.0,
+            swd: 0.0,
+            colour: 1.0,
+        };
+        cfg.joint_colour = joint;
+        let loss = StyleLoss::new(&cfg, &device);
+        let targets = loss.targets(std::slice::from_ref(&brown)).unwrap();
+        value(
+            loss.loss(&[image_to_tensor(img, &device)], &targets, &[0])
+                .unwrap(),
+        )
+    };
+    let (six, ten) = (loss_at(false, &blue), loss_at(true, &blue));
+    // R, G and B already see part of it (their marginals change with the coupling); the
+    // mixed axes add the rest.
+    assert!(
+        ten > 1.15 * six,
+        "blue pores on a brown target: {ten} with the joint axes vs {six} without"
+    );
+    assert!(loss_at(true, &brown) < 1e-6);
 }

@@ -11,8 +11,29 @@ use super::distance::relative_mse;
 use super::moments::{mean_and_covariance, mean_variance};
 use super::sliced_wasserstein::{SortedTarget, sorted_projections};
 
-/// The colour axes, `[6, 3]`, each of unit length.
-pub fn colour_axes(device: &Device) -> Tensor<2> {
+/// The colour axes, `[6, 3]` (`[10, 3]` with `joint`: see `LossConfig::joint_colour`), each
+/// of unit length.
+pub fn colour_axes(device: &Device, joint: bool) -> Tensor<2> {
+    let mut data = six_axes();
+    if joint {
+        let [luma, rg, yb] = [&data[9..12], &data[12..15], &data[15..18]].map(|a| {
+            let v: [f32; 3] = a.try_into().expect("3 components");
+            v
+        });
+        for chroma in [rg, yb] {
+            for sign in [1.0f32, -1.0] {
+                let v: [f32; 3] = std::array::from_fn(|i| luma[i] + sign * chroma[i]);
+                let n = v.iter().map(|x| x * x).sum::<f32>().sqrt();
+                data.extend(v.map(|x| x / n));
+            }
+        }
+    }
+    let axes = data.len() / 3;
+    Tensor::from_data(TensorData::new(data, [axes, 3]), device)
+}
+
+/// R, G, B, luminance and the two opponent axes, row by row.
+fn six_axes() -> Vec<f32> {
     let s2 = std::f32::consts::FRAC_1_SQRT_2;
     let s6 = 1.0 / 6f32.sqrt();
     let luma = [0.2126f32, 0.7152, 0.0722];
@@ -26,7 +47,7 @@ pub fn colour_axes(device: &Device) -> Tensor<2> {
         s2, -s2, 0.0,
         s6, s6, -2.0 * s6,
     ];
-    Tensor::from_data(TensorData::new(data, [6, 3]), device)
+    data
 }
 
 /// A target image's colour statistics.

@@ -22,6 +22,15 @@ pub struct LossConfig {
     /// A level whose valid feature map has fewer pixels than this is skipped (a small patch
     /// has no coarse levels; its statistics would rest on a handful of pixels).
     pub min_layer_pixels: usize,
+    /// Four more axes for the colour term, each halfway between lightness and one opponent
+    /// axis (L + rg, L - rg, L + yb, L - yb). The six default axes match the marginals of
+    /// lightness and chroma but not how they go together: an NCA matched them with grey-blue
+    /// pores on pink wood where the photo's pores are darker *and* browner (CN03: correlation
+    /// of lightness and yellow-blue over the pixels -0.46 in the photos, +0.27 in the quick
+    /// model's faces). The spread along L + yb differs from that along L - yb by twice
+    /// their covariance, so these axes pin the coupling. Default false (six axes).
+    #[serde(default)]
+    pub joint_colour: bool,
     pub filters: FilterConfig,
     pub swd: SwdConfig,
     pub weights: LossWeights,

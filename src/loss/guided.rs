@@ -52,7 +52,7 @@ pub struct GuidedLoss {
     guided: GuidedConfig,
     device: Device,
     features: FeatureExtractor,
-    /// The six colour axes `[6, 3]` of the colour term.
+    /// The colour axes `[A, 3]` of the colour term (A = 6, or 10 with `joint_colour`).
     colour_axes: Tensor<2>,
 }
 
@@ -149,9 +149,9 @@ impl LayerStats {
 }
 
 struct ColourStats {
-    /// The window's sorted, scaled colour projections `[6, M]`.
+    /// The window's sorted, scaled colour projections `[A, M]`.
     sorted: Tensor<2>,
-    /// Per-axis scale `[6, 1]`.
+    /// Per-axis scale `[A, 1]`.
     scale: Tensor<2>,
 }
 
@@ -159,7 +159,7 @@ impl ColourStats {
     /// Mean squared difference of a patch's sorted, scaled colours `[3, N]` to the window's.
     fn distance(&self, pixels: Tensor<2>, axes: &Tensor<2>) -> Tensor<1> {
         let n = pixels.dims()[1];
-        let generated = axes.clone().matmul(pixels).sort(1) * self.scale.clone(); // [6, N]
+        let generated = axes.clone().matmul(pixels).sort(1) * self.scale.clone(); // [A, N]
         relative_mse(generated, resample_sorted(self.sorted.clone(), n), 1.0)
     }
 }
@@ -170,7 +170,7 @@ impl GuidedLoss {
         let device = device.clone().without_autodiff();
         Self {
             features: FeatureExtractor::new(style, &device),
-            colour_axes: colour_axes(&device),
+            colour_axes: colour_axes(&device, style.joint_colour),
             style: style.clone(),
             guided: guided.clone(),
             device,
@@ -349,7 +349,7 @@ impl GuidedLoss {
     /// Chroma varies far less than lightness in wood: measured against the lightness
     /// variance, a green or pink cast cost almost nothing (see the module note).
     fn colour_stats(&self, pixels: Tensor<2>) -> ColourStats {
-        let projected = self.colour_axes.clone().matmul(pixels); // [6, M]
+        let projected = self.colour_axes.clone().matmul(pixels); // [A, M], A = 6 or 10 axes
         let variances = axis_variances(&projected);
         let floor = 0.1 * variances.iter().sum::<f32>() / variances.len() as f32;
         let scale: Vec<f32> = variances
@@ -359,7 +359,7 @@ impl GuidedLoss {
         let scale = Tensor::<2>::from_data(
             burn::tensor::TensorData::new(scale, [variances.len(), 1]),
             &self.device,
-        ); // [6, 1]
+        ); // [A, 1]
         ColourStats {
             sorted: projected.sort(1) * scale.clone(),
             scale,

@@ -147,7 +147,7 @@ impl StyleLoss {
             .collect();
         Self {
             cfg: cfg.clone(),
-            colour_axes: colour_axes(&device),
+            colour_axes: colour_axes(&device, cfg.joint_colour),
             device,
             features,
             projections,
