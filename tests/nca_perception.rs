@@ -1,5 +1,8 @@
 //! The NCA's fixed perception: kernels exactly as DESIGN section 6, replicate padding, and the
 //! two implementations (shifted slices, grouped conv3d) agreeing with a plain loop.
+// Kernel offsets a, b, c index the kernels and, mirrored, the outputs: plain indices read
+// as the formulas they check.
+#![allow(clippy::needless_range_loop)]
 
 use burn::tensor::{Device, Tensor};
 use xylem::nca::perception::{PerceptionImpl, kernels};

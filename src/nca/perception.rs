@@ -36,6 +36,9 @@ pub enum PerceptionImpl {
 }
 
 /// The five kernels `[filter][a][b][c]`, weight of input voxel (x + a - 1, y + b - 1, z + c - 1).
+// The kernels are written as the formula over their three offsets; iterators over the
+// nested arrays would hide which offset is which.
+#[allow(clippy::needless_range_loop)]
 pub fn kernels() -> [[[[f32; 3]; 3]; 3]; FILTERS] {
     let smooth = [1.0, 2.0, 1.0];
     let diff = [-1.0, 0.0, 1.0];

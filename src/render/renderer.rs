@@ -14,6 +14,8 @@ use crate::rng::{hash3, unit};
 use crate::texture::{SolidTexture, with_values};
 
 /// What is rendered.
+// One Shape exists per render, so the mesh variant's size costs nothing worth a Box.
+#[allow(clippy::large_enum_variant)]
 pub enum Shape {
     /// The sample cube [-0.5, 0.5]^3 itself.
     Cube,
