@@ -33,7 +33,7 @@ use super::{fit_cmd, run_metrics, synth_cmd, train_cmd};
 /// `configs/nca/quality.toml` (the default of `xylem run`).
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum NcaPreset {
-    /// 128^3 grid, 600 iterations: the demo, about 3.5 minutes in all.
+    /// 128^3 grid, 1500 iterations: the demo, about 8 minutes in all.
     Quick,
     /// Native 256 px / 256^3, 3000 iterations: about 21 minutes for CN03 on 2 cores.
     Quality,
