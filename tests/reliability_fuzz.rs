@@ -305,21 +305,6 @@ fn edit_array(rng: &mut Rng, bytes: &mut Vec<u8>, end: usize) -> bool {
     true
 }
 
-fn crc32(bytes: &[u8]) -> u32 {
-    let mut crc = 0xffff_ffffu32;
-    for &b in bytes {
-        crc ^= u32::from(b);
-        for _ in 0..8 {
-            crc = if crc & 1 != 0 {
-                (crc >> 1) ^ 0xedb8_8320
-            } else {
-                crc >> 1
-            };
-        }
-    }
-    !crc
-}
-
 /// (offset of the length field, data length) of every chunk of a PNG.
 fn png_chunks(bytes: &[u8]) -> Vec<(usize, usize)> {
     let mut chunks = Vec::new();
@@ -366,7 +351,7 @@ fn edit_png(rng: &mut Rng, bytes: &mut [u8]) -> bool {
             bytes[i] ^= 1 << rng.below(8);
         }
     }
-    let crc = crc32(&bytes[at + 4..data + len]);
+    let crc = reliability_support::crc32(&bytes[at + 4..data + len]);
     bytes[data + len..data + len + 4].copy_from_slice(&crc.to_be_bytes());
     true
 }

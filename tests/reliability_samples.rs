@@ -205,7 +205,7 @@ fn damaged_sample_folders_give_clear_errors() {
                 let mut bytes = std::fs::read(d.join("A_col.png")).unwrap();
                 bytes[16..20].copy_from_slice(&12000u32.to_be_bytes());
                 bytes[20..24].copy_from_slice(&12000u32.to_be_bytes());
-                let crc = crc32(&bytes[12..29]);
+                let crc = reliability_support::crc32(&bytes[12..29]);
                 bytes[29..33].copy_from_slice(&crc.to_be_bytes());
                 bytes.truncate(100);
                 std::fs::write(d.join("A_col.png"), bytes).unwrap();
@@ -516,19 +516,4 @@ fn commands_refuse_damaged_samples_before_working() {
     }
     tally.print("sample folders (CLI)");
     std::fs::remove_dir_all(&dir).unwrap();
-}
-
-fn crc32(bytes: &[u8]) -> u32 {
-    let mut crc = 0xffff_ffffu32;
-    for &b in bytes {
-        crc ^= u32::from(b);
-        for _ in 0..8 {
-            crc = if crc & 1 != 0 {
-                (crc >> 1) ^ 0xedb8_8320
-            } else {
-                crc >> 1
-            };
-        }
-    }
-    !crc
 }

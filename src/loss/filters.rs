@@ -94,14 +94,7 @@ fn oriented_filter(k: usize, angle: f32, order: u32, elongation: f32) -> Vec<f32
             _ => (n * n - 1.0) * g,
         };
     }
-    let mean = base.iter().sum::<f32>() / base.len() as f32;
-    base.iter_mut().for_each(|v| *v -= mean);
-    let mut w: Vec<f32> = LUMA
-        .iter()
-        .flat_map(|l| base.iter().map(move |v| v * l))
-        .collect();
-    normalise(&mut w);
-    w
+    on_colour_axis(&mut base, &LUMA)
 }
 
 /// A round second derivative of a Gaussian (sigma a quarter of the kernel side) on one colour
@@ -116,6 +109,14 @@ fn chroma_filter(k: usize, axis: &[f32; 3], norm: f32) -> Vec<f32> {
             (q - 2.0) * (-q / 2.0).exp()
         })
         .collect();
+    let mut w = on_colour_axis(&mut base, axis);
+    w.iter_mut().for_each(|v| *v *= norm);
+    w
+}
+
+/// A spatial kernel `[k, k]` made zero-mean and applied along one colour axis: `[3, k, k]`
+/// of unit norm (channel c holds the kernel times `axis[c]`).
+fn on_colour_axis(base: &mut [f32], axis: &[f32; 3]) -> Vec<f32> {
     let mean = base.iter().sum::<f32>() / base.len() as f32;
     base.iter_mut().for_each(|v| *v -= mean);
     let mut w: Vec<f32> = axis
@@ -123,7 +124,6 @@ fn chroma_filter(k: usize, axis: &[f32; 3], norm: f32) -> Vec<f32> {
         .flat_map(|a| base.iter().map(move |v| v * a))
         .collect();
     normalise(&mut w);
-    w.iter_mut().for_each(|v| *v *= norm);
     w
 }
 

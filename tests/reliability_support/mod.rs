@@ -336,3 +336,19 @@ pub fn copy_tree(from: &Path, to: &Path) {
         }
     }
 }
+
+/// CRC-32 (IEEE) of PNG chunks, so crafted PNG edits keep valid checksums and reach the decoder.
+pub fn crc32(bytes: &[u8]) -> u32 {
+    let mut crc = 0xffff_ffffu32;
+    for &b in bytes {
+        crc ^= u32::from(b);
+        for _ in 0..8 {
+            crc = if crc & 1 != 0 {
+                (crc >> 1) ^ 0xedb8_8320
+            } else {
+                crc >> 1
+            };
+        }
+    }
+    !crc
+}
