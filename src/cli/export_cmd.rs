@@ -114,14 +114,21 @@ pub fn run(args: ExportArgs) -> Result<()> {
 }
 
 fn write_scene(args: &ExportArgs, volume: &Volume, what: &str) -> Result<ExportSummary> {
-    let dir = OutputDir::prepare(&args.out)?;
-    let scene = dir.path(xylem::export::mitsuba_scene::SCENE_FILE);
-    check_new_file(&scene, args.force)?;
+    // Checked before the folder is made, so a wrong volume leaves nothing behind.
+    if volume.channels != 3 {
+        bail!(
+            "{what}: a Mitsuba scene shows colour (3 channels); this volume has {}",
+            volume.channels
+        );
+    }
+    let (width, height) = parse_size("--image-size", &args.image_size)?;
     let cfg = match &args.render_config {
         Some(path) => RenderConfig::load(path)?,
         None => RenderConfig::default_config(),
     };
-    let (width, height) = parse_size("--image-size", &args.image_size)?;
+    let dir = OutputDir::prepare(&args.out)?;
+    let scene = dir.path(xylem::export::mitsuba_scene::SCENE_FILE);
+    check_new_file(&scene, args.force)?;
     let size = SceneSize {
         width,
         height,

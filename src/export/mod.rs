@@ -144,11 +144,13 @@ fn check_scene_values(values: Values, what: &str) -> Result<()> {
     ))
 }
 
-/// The grid a volume becomes in a `.vdb` file: colour is the Vec3S grid `color` (a fog
-/// volume's colour in Blender's terms); data keeps its channel count under `values`.
+/// The grid a volume becomes in a `.vdb` file: colour is the Vec3S grid `color` (the
+/// attribute name Blender's volume shaders read); data keeps its channel count under
+/// `values`. Neither is a density, so both are of class "unknown" (a fog volume would be
+/// taken for one).
 pub fn main_grid<'a>(volume: &'a Volume, values: Values, what: &str) -> Result<VdbGrid<'a>> {
     let (name, class) = match values {
-        Values::Colour => ("color", VdbClass::FogVolume),
+        Values::Colour => ("color", VdbClass::Unknown),
         Values::Data => ("values", VdbClass::Unknown),
     };
     let values = match volume.channels {
