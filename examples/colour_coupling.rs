@@ -17,6 +17,7 @@ use std::path::{Path, PathBuf};
 
 use xylem::Image2;
 use xylem::frame::Face;
+use xylem::frame::edges::pearson;
 use xylem::io::load_rgb;
 
 const LUMA: [f32; 3] = [0.2126, 0.7152, 0.0722];
@@ -36,17 +37,6 @@ fn opponent(img: &Image2) -> [Vec<f32>; 3] {
 fn mean(v: impl Iterator<Item = f32>) -> f32 {
     let (s, n) = v.fold((0.0, 0usize), |(s, n), x| (s + x, n + 1));
     s / n.max(1) as f32
-}
-
-fn correlation(a: &[f32], b: &[f32]) -> f32 {
-    let (ma, mb) = (mean(a.iter().copied()), mean(b.iter().copied()));
-    let (mut ab, mut aa, mut bb) = (0.0, 0.0, 0.0);
-    for (x, y) in a.iter().zip(b) {
-        ab += (x - ma) * (y - mb);
-        aa += (x - ma) * (x - ma);
-        bb += (y - mb) * (y - mb);
-    }
-    ab / (aa * bb).sqrt().max(1e-12)
 }
 
 /// (yb shift, rg shift, corr(L, yb)) of one face.
@@ -71,7 +61,7 @@ fn coupling(img: &Image2) -> [f32; 3] {
         );
         d - b
     };
-    [shift(&yb), shift(&rg), correlation(&l, &yb)]
+    [shift(&yb), shift(&rg), pearson(&l, &yb)]
 }
 
 fn report(name: &str, faces: &[PathBuf]) -> xylem::Result<()> {

@@ -8,6 +8,7 @@ mod common;
 use glam::Vec3;
 use xylem::Volume;
 use xylem::export::{Format, SceneSize, Values, export, export_scene};
+use xylem::frame::edges::pearson;
 use xylem::render::{RenderConfig, Shape, render};
 use xylem::texture::SolidTexture;
 
@@ -242,16 +243,4 @@ fn inside_cube_image(img: &xylem::Image2, r: usize, c: usize, bg: Vec3) -> bool 
     (r - 1..=r + 1).all(|rr| {
         (c - 1..=c + 1).all(|cc| (Vec3::from_slice(img.pixel(rr, cc)) - bg).length() > 1e-4)
     })
-}
-
-fn pearson(a: &[f32], b: &[f32]) -> f32 {
-    let n = a.len() as f32;
-    let (ma, mb) = (a.iter().sum::<f32>() / n, b.iter().sum::<f32>() / n);
-    let (mut sab, mut saa, mut sbb) = (0.0, 0.0, 0.0);
-    for (x, y) in a.iter().zip(b) {
-        sab += (x - ma) * (y - mb);
-        saa += (x - ma) * (x - ma);
-        sbb += (y - mb) * (y - mb);
-    }
-    sab / (saa * sbb).sqrt().max(1e-12)
 }

@@ -59,11 +59,7 @@ pub fn prepare<'a>(
         });
     }
     check_colour(volume, what)?;
-    let clamped = volume
-        .data
-        .iter()
-        .filter(|v| !(0.0..=1.0).contains(*v))
-        .count();
+    let clamped = outside_unit(volume);
     if clamped == 0 && encoding == Encoding::DisplaySrgb {
         return Ok(Prepared {
             volume: Cow::Borrowed(volume),
@@ -80,6 +76,15 @@ pub fn prepare<'a>(
         volume: Cow::Owned(out),
         clamped,
     })
+}
+
+/// Values outside [0, 1]: what clamping changes, and what says a volume may not be colour.
+fn outside_unit(volume: &Volume) -> usize {
+    volume
+        .data
+        .iter()
+        .filter(|v| !(0.0..=1.0).contains(*v))
+        .count()
 }
 
 /// A colour volume has 3 finite channels.
@@ -107,12 +112,7 @@ fn check_colour(volume: &Volume, what: &str) -> Result<()> {
 /// colour, or clamping would silently destroy it (a fibre direction). Called when the user
 /// did not say what the values are.
 pub fn check_looks_like_colour(volume: &Volume, what: &str) -> Result<()> {
-    let outside = volume
-        .data
-        .iter()
-        .filter(|v| !(0.0..=1.0).contains(*v))
-        .count();
-    let fraction = outside as f64 / volume.data.len().max(1) as f64;
+    let fraction = outside_unit(volume) as f64 / volume.data.len().max(1) as f64;
     if fraction > MAX_OUTSIDE_FRACTION {
         return Err(XylemError::input(
             what,
