@@ -24,11 +24,13 @@ use std::time::Instant;
 
 use xylem::field::{FieldConfig, GrowthField, PithAxis, RingImage};
 use xylem::fit::contours::{ContourSet, face_contours};
-use xylem::fit::metrics::{axis_errors, image_correlation, iso_error_mm, shifted_correlation};
+use xylem::fit::metrics::{
+    axis_errors, iso_error_mm, shifted_correlation, truth_ring_correlations,
+};
 use xylem::fit::{FitConfig, FitResult, fit_sample, write_synthetic_sample};
-use xylem::frame::{Face, Plane};
+use xylem::frame::Face;
 use xylem::sample::{Needs, Sample};
-use xylem::slice::{slice_face, slice_plane};
+use xylem::slice::slice_face;
 use xylem::texture::SolidTexture;
 
 const SIZE: usize = 256;
@@ -147,26 +149,10 @@ fn report_case(name: &str, truth_cfg: &FieldConfig, dir: &Path, cfg: &FitConfig)
         let (dist, angle) = axis_errors(&result.step1_pith, &truth.pith);
         let set = all_contours(&sample, cfg, &Face::ALL);
         let truth_iso = iso_error_mm(&truth, &set);
-        let faces = mean(Face::ALL.iter().map(|&f| {
-            image_correlation(
-                &slice_face(&RingImage(&fitted), f, SIZE),
-                &slice_face(&RingImage(&truth), f, SIZE),
-                0,
-            )
-        }));
-        let cut = |plane: Plane| {
-            image_correlation(
-                &slice_plane(&RingImage(&fitted), &plane, SIZE, SIZE),
-                &slice_plane(&RingImage(&truth), &plane, SIZE, SIZE),
-                0,
-            )
-        };
+        let [faces, cut1, cut2] = truth_ring_correlations(&fitted, &truth, SIZE);
         println!(
             "| {name} | {dist:.2} | {angle:.2} | {:.3} | {:.3} | {truth_iso:.3} | {faces:.2} | {:.2} | {:.2} | {secs:.1} |",
-            result.iso_mm_step1,
-            result.iso_mm_step2,
-            cut(Plane::cut1()),
-            cut(Plane::cut2()),
+            result.iso_mm_step1, result.iso_mm_step2, cut1, cut2,
         );
     }
 }

@@ -96,6 +96,7 @@ pub mod presets;
 pub mod procedural;
 pub mod render;
 pub mod report;
+pub mod rings;
 pub mod rng;
 pub mod sample;
 pub mod slice;

@@ -88,11 +88,8 @@ impl Sample {
                 check_photo_content(&img, &path)?;
                 sample.photos[face.index()] = Some(img);
             }
-            if needs.arl {
-                let path = arl_path(dir, face)?;
-                let img = load_gray(&path)?;
-                sample.check_size(&img, &path)?;
-                sample.arl[face.index()] = Some(img);
+            if needs.arl && !sample.load_ring_image(face)? {
+                return Err(missing_ring_image(dir, face));
             }
             let knot = dir.join(format!("{face}_knot.png"));
             if knot.is_file() {
@@ -150,6 +147,25 @@ impl Sample {
         Ok(())
     }
 
+    /// Loads the face's given ring image (`X_arl-unet.png`, else `X_arl.png`) if the folder
+    /// has one; false if it has none. A file of the wrong size is an error naming it.
+    pub fn load_ring_image(&mut self, face: Face) -> Result<bool> {
+        let Some(path) = given_ring_path(&self.dir, face) else {
+            return Ok(false);
+        };
+        let img = load_gray(&path)?;
+        self.check_size(&img, &path)?;
+        self.arl[face.index()] = Some(img);
+        Ok(true)
+    }
+
+    /// The given ring image of `face` in `dir`, if the folder has one (any size).
+    pub fn given_ring_image(dir: &Path, face: Face) -> Result<Option<Image2>> {
+        given_ring_path(dir, face)
+            .map(|path| load_gray(&path))
+            .transpose()
+    }
+
     pub fn photo(&self, face: Face) -> Option<&Image2> {
         self.photos[face.index()].as_ref()
     }
@@ -181,22 +197,24 @@ fn require(path: &Path, load: fn(&Path) -> Result<Image2>) -> Result<Image2> {
     load(path)
 }
 
-/// `X_arl-unet.png` if present (real data), else `X_arl.png` (synthetic samples).
-fn arl_path(dir: &Path, face: Face) -> Result<PathBuf> {
-    let unet = dir.join(format!("{face}_arl-unet.png"));
-    if unet.is_file() {
-        return Ok(unet);
-    }
-    let exact = dir.join(format!("{face}_arl.png"));
-    if exact.is_file() {
-        return Ok(exact);
-    }
-    Err(XylemError::sample(
-        unet,
+/// `X_arl-unet.png` if present (real data), else `X_arl.png` (synthetic samples and
+/// `xylem rings` output), else none.
+pub fn given_ring_path(dir: &Path, face: Face) -> Option<PathBuf> {
+    [format!("{face}_arl-unet.png"), format!("{face}_arl.png")]
+        .into_iter()
+        .map(|name| dir.join(name))
+        .find(|path| path.is_file())
+}
+
+fn missing_ring_image(dir: &Path, face: Face) -> XylemError {
+    XylemError::sample(
+        dir.join(format!("{face}_arl-unet.png")),
         format!(
-            "missing ring localisation image (neither {face}_arl-unet.png nor {face}_arl.png exists)"
+            "missing ring localisation image (neither {face}_arl-unet.png nor {face}_arl.png \
+             exists); `xylem rings` predicts them from the photos, and `xylem fit` / `xylem run` \
+             do so themselves unless asked for given rings"
         ),
-    ))
+    )
 }
 
 /// Connected groups of non-white pixels of equal value, each reduced to its centroid.

@@ -1,6 +1,7 @@
 //! `xylem demo` and `xylem run` end to end with a tiny NCA: every stage writes its outputs,
 //! the metrics table compares the right references, a re-run skips finished stages, and a
-//! leave-one-face-out run on real data reports the held-out face.
+//! leave-one-face-out run on real data reports the held-out face, and a folder of photos alone
+//! runs with predicted ring images.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -209,5 +210,59 @@ fn run_on_real_data_reports_the_held_out_face() {
         3,
         "only the held-out face is a fair reference: {rows:?}"
     );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 13: a folder of the six photos of H11 alone (and its knot markers) runs through the
+/// whole pipeline, the ring images predicted from the photos.
+#[test]
+fn run_on_photos_alone_predicts_the_ring_images() {
+    let Some(data) = mokume_dir() else { return };
+    let dir = scratch("run-h11-photos");
+    let photos = dir.join("H11-photos");
+    std::fs::create_dir_all(&photos).unwrap();
+    for face in ["A", "B", "C", "D", "E", "F"] {
+        for name in [format!("{face}_col.png"), format!("{face}_knot.png")] {
+            if data.join("H11").join(&name).is_file() {
+                std::fs::copy(data.join("H11").join(&name), photos.join(&name)).unwrap();
+            }
+        }
+    }
+    let nca = tiny_nca(&dir);
+    let run = dir.join("run");
+    let output = xylem()
+        .args([
+            "run",
+            "--synth-steps",
+            "2",
+            "--image-size",
+            "64",
+            "--sample",
+        ])
+        .arg(&photos)
+        .arg("--nca-config")
+        .arg(&nca)
+        .arg("--out")
+        .arg(&run)
+        .output()
+        .expect("run xylem");
+    let said = format!(
+        "{}{}",
+        String::from_utf8_lossy(&output.stdout),
+        String::from_utf8_lossy(&output.stderr)
+    );
+    assert!(output.status.success(), "{said}");
+    assert!(
+        said.contains("ring images predicted from the photos for faces A,B,C,D,E,F"),
+        "{said}"
+    );
+    for file in [
+        "fit/fit.toml",
+        "sheet.png",
+        "metrics.csv",
+        "report/index.html",
+    ] {
+        assert!(run.join(file).is_file(), "{file}");
+    }
     std::fs::remove_dir_all(&dir).unwrap();
 }

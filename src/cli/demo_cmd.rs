@@ -12,6 +12,7 @@ use xylem::io::OutputDir;
 use xylem::nca::config::Engine;
 use xylem::presets::load_species_preset;
 use xylem::procedural::write_sample;
+use xylem::rings::RingSource;
 
 use super::run_cmd::{self, NcaPreset, RunArgs};
 
@@ -73,6 +74,7 @@ pub fn run(args: DemoArgs) -> Result<()> {
         nca_config: args.nca_config,
         nca_preset: NcaPreset::Quick,
         fit_config: None,
+        rings: RingSource::Auto,
         species: args.species,
         synth_steps: args.synth_steps,
         image_size: 160,

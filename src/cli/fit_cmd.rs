@@ -8,6 +8,7 @@ use xylem::Face;
 use xylem::fit::run::total_steps;
 use xylem::fit::{Display, FitConfig, fit_sample, write_fit};
 use xylem::io::OutputDir;
+use xylem::rings::{RingSource, load_with_rings};
 use xylem::sample::{Needs, Sample, parse_faces};
 
 use super::json_out::{Summary, say};
@@ -17,8 +18,9 @@ use super::progress::Progress;
 /// ring images and photos of a sample folder.
 #[derive(Args, Debug)]
 #[command(
-    after_help = "The sample folder holds A_col.png..F_col.png and A_arl-unet.png (or \
-A_arl.png)..F_arl*.png, optionally X_knot.png knot markers (Mokume layout).
+    after_help = "The sample folder holds A_col.png..F_col.png, optionally A_arl-unet.png (or \
+A_arl.png)..F_arl*.png ring images (predicted from the photos where absent, as `xylem rings` \
+does) and X_knot.png knot markers (Mokume layout).
 
 Examples:
   xylem fit --sample ../shared/data/mokume/CN03 --out out/fit/CN03
@@ -43,6 +45,11 @@ pub struct FitArgs {
     /// Fit config (TOML, see configs/fit/default.toml); default: the built-in defaults.
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
+    /// Ring images: auto (the folder's X_arl-unet.png / X_arl.png where present, predicted
+    /// from the photos elsewhere), given (the folder's only), predict (from the photos for
+    /// every face; see `xylem rings`).
+    #[arg(long, default_value = "auto", value_name = "SOURCE", value_parser = super::output_args::ring_source)]
+    pub rings: RingSource,
 }
 
 pub fn run(args: FitArgs) -> Result<()> {
@@ -54,11 +61,9 @@ pub fn run(args: FitArgs) -> Result<()> {
         Some(list) => parse_faces(list)?,
         None => Face::ALL.to_vec(),
     };
-    let needs = Needs {
-        photos: true,
-        arl: true,
-    };
-    let sample = Sample::load(&args.sample, &faces, needs)?;
+    let loaded = load_with_rings(&args.sample, &faces, args.rings, &cfg.localiser)?;
+    say_predicted(&loaded.predicted);
+    let sample = loaded.sample;
     let out = OutputDir::prepare(&args.out)?;
 
     let bar = Progress::new("fit", total_steps(&cfg) as u64);
@@ -76,7 +81,10 @@ pub fn run(args: FitArgs) -> Result<()> {
         .with_context(|| format!("fitting {}", args.sample.display()))?;
     bar.finish();
 
-    let display = display_images(&args.sample);
+    let mut display = display_images(&args.sample);
+    for &face in &sample.faces {
+        display.targets[face.index()] = sample.ring_image(face).cloned();
+    }
     write_fit(
         &out,
         &result,
@@ -105,6 +113,18 @@ pub fn run(args: FitArgs) -> Result<()> {
         .number("seconds", seconds)
         .emit();
     Ok(())
+}
+
+/// Says which faces' ring images the localiser made (none when the folder had them all).
+fn say_predicted(faces: &[Face]) {
+    if !faces.is_empty() {
+        let letters: Vec<String> = faces.iter().map(|f| f.letter().to_string()).collect();
+        say(&format!(
+            "ring images predicted from the photos for faces {} (the folder has none for them, \
+             or --rings predict); OUT/sheet.png shows them",
+            letters.join(",")
+        ));
+    }
 }
 
 /// Photos and ring images of all six faces for the sheet, as far as the folder has them

@@ -15,6 +15,7 @@ mod procedural_cmd;
 mod progress;
 mod render_cmd;
 mod report_cmd;
+mod rings_cmd;
 mod run_cmd;
 mod run_metrics;
 mod sample_cmd;
@@ -65,6 +66,7 @@ pub enum Command {
     Procedural(procedural_cmd::ProceduralArgs),
     Render(render_cmd::RenderArgs),
     Report(report_cmd::ReportArgs),
+    Rings(rings_cmd::RingsArgs),
     Run(run_cmd::RunArgs),
     Sample(sample_cmd::SampleArgs),
     Slice(slice_cmd::SliceArgs),
@@ -95,6 +97,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Procedural(a) => procedural_cmd::run(a),
         Command::Render(a) => render_cmd::run(a),
         Command::Report(a) => report_cmd::run(a),
+        Command::Rings(a) => rings_cmd::run(a),
         Command::Run(a) => run_cmd::run(a),
         Command::Sample(a) => sample_cmd::run(a),
         Command::Slice(a) => slice_cmd::run(a),
@@ -118,6 +121,7 @@ fn command_name(command: &Command) -> &'static str {
         Command::Procedural(_) => "procedural",
         Command::Render(_) => "render",
         Command::Report(_) => "report",
+        Command::Rings(_) => "rings",
         Command::Run(_) => "run",
         Command::Sample(_) => "sample",
         Command::Slice(_) => "slice",

@@ -70,3 +70,13 @@ pub fn side_2_1024(s: &str) -> std::result::Result<u32, String> {
 pub fn image_side_16_2048(s: &str) -> std::result::Result<usize, String> {
     square(s, 16, 2048).map(|n| n as usize)
 }
+
+/// `--rings auto|given|predict`.
+pub fn ring_source(s: &str) -> std::result::Result<xylem::rings::RingSource, String> {
+    s.parse().map_err(|_| {
+        format!(
+            "{s:?} is not a ring source; expected one of {}",
+            xylem::rings::RingSource::NAMES.join(", ")
+        )
+    })
+}

@@ -21,6 +21,7 @@ use xylem::report::{
     Column, MetricsTable, SHEET_ROWS, StageClock, TIMINGS_FILE, Timings, captioned_row,
     comparison_sheet, default_title, write_report,
 };
+use xylem::rings::RingSource;
 use xylem::sample::parse_faces;
 use xylem::slice::unfold_cross;
 use xylem::texture::SolidTexture;
@@ -88,6 +89,10 @@ pub struct RunArgs {
     /// Fit config (default: the built-in defaults).
     #[arg(long)]
     pub fit_config: Option<PathBuf>,
+    /// Ring images for the fit: auto (the folder's where present, predicted from the photos
+    /// elsewhere, so six photos are enough), given, or predict (see `xylem rings`).
+    #[arg(long, default_value = "auto", value_name = "SOURCE", value_parser = super::output_args::ring_source)]
+    pub rings: RingSource,
     /// Species whose procedural colours are shown on the fitted field in the sheet (a
     /// synthetic sample shows its own truth instead).
     #[arg(long, default_value = "chestnut", value_parser = super::presets::species_name)]
@@ -289,6 +294,10 @@ fn run_provenance(args: &RunArgs, faces: &[Face]) -> Result<Provenance> {
             .with("nca_config", format!("built-in {}", args.nca_preset.name()))
             .with_text("nca_config_hash", args.nca_preset.text()),
     };
+    // Recorded only when not the default, so run folders made before --rings existed resume.
+    if args.rings != RingSource::Auto {
+        record = record.with("rings", args.rings.to_string());
+    }
     Ok(match &args.fit_config {
         Some(path) => record.with_file("fit_config", path)?,
         None => record.with("fit_config", "built-in defaults"),
@@ -322,6 +331,7 @@ fn fit_step(args: &RunArgs, out: &OutputDir) -> Result<bool> {
         out: dir.clone(),
         faces: args.faces.clone(),
         config: args.fit_config.clone(),
+        rings: args.rings,
     })?;
     mark_done(&dir)?;
     Ok(false)

@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::config::{Checker, load_checked, parse_checked};
 use crate::error::Result;
+use crate::rings::LocaliserConfig;
 
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -18,6 +19,8 @@ pub struct FitConfig {
     pub rings: RingPeakConfig,
     pub knots: KnotFitConfig,
     pub colour: ColourFitConfig,
+    /// The ring localiser, for faces without ring images (`crate::rings`).
+    pub localiser: LocaliserConfig,
 }
 
 /// Contour extraction from the ring localisation images (Mokume 5.1.2, DESIGN section 5).
@@ -260,7 +263,8 @@ impl FitConfig {
         self.distortion.validate(&check.nested("distortion"))?;
         self.rings.validate(&check.nested("rings"))?;
         self.knots.validate(&check.nested("knots"))?;
-        self.colour.validate(&check.nested("colour"))
+        self.colour.validate(&check.nested("colour"))?;
+        self.localiser.validate(&check.nested("localiser"))
     }
 }
 

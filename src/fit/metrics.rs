@@ -84,3 +84,34 @@ pub fn shifted_correlation(a: &Image2, b: &Image2, border: usize, shift: usize) 
     }
     best
 }
+
+/// How well a fitted field predicts a known one: the correlation of their ring images I(G)
+/// at `size` px, as [mean over the six faces, cut1, cut2] (the hidden validation cuts).
+pub fn truth_ring_correlations(
+    fitted: &crate::field::GrowthField,
+    truth: &crate::field::GrowthField,
+    size: usize,
+) -> [f32; 3] {
+    use crate::field::RingImage;
+    use crate::frame::{Face, Plane};
+    use crate::slice::{slice_face, slice_plane};
+    let faces = Face::ALL
+        .iter()
+        .map(|&f| {
+            image_correlation(
+                &slice_face(&RingImage(fitted), f, size),
+                &slice_face(&RingImage(truth), f, size),
+                0,
+            )
+        })
+        .sum::<f32>()
+        / Face::ALL.len() as f32;
+    let cut = |plane: Plane| {
+        image_correlation(
+            &slice_plane(&RingImage(fitted), &plane, size, size),
+            &slice_plane(&RingImage(truth), &plane, size, size),
+            0,
+        )
+    };
+    [faces, cut(Plane::cut1()), cut(Plane::cut2())]
+}

@@ -12,7 +12,7 @@ use std::time::Instant;
 use glam::Vec3;
 
 use super::colour_fit::fit_base_colour;
-use super::config::FitConfig;
+use super::config::{FitConfig, RingPeakConfig};
 use super::contours::{Contour, ContourSet, face_contours};
 use super::distortion::{LossParts, Step2, Step2Data, Step2Params};
 use super::grey_map::{self, GRange};
@@ -287,7 +287,7 @@ struct Trial {
 fn best_trial(
     piths: &[PithAxis],
     all: &ContourSet,
-    pixels: &(Vec<Vec3>, Vec<f32>),
+    pixels: &FacePixels,
     marks: &[MarkedKnot],
     cfg: &FitConfig,
     log: &mut Vec<LossRow>,
@@ -328,14 +328,15 @@ fn best_trial(
 fn start_trial(
     pith: &PithAxis,
     all: &ContourSet,
-    pixels: &(Vec<Vec3>, Vec<f32>),
+    pixels: &FacePixels,
     marks: &[MarkedKnot],
     cfg: &FitConfig,
 ) -> Trial {
     let ypu = years_per_unit(pith, pixels, cfg);
     let knots: Vec<KnotConfig> = marks.iter().map(|m| m.initial_knot(pith)).collect();
     let anchors = marks.iter().map(MarkedKnot::points).collect();
-    let step2 = prepare_step2(pith, ypu, &knots, all.clone(), pixels.clone(), cfg)
+    let samples = (pixels.points.clone(), pixels.targets.clone());
+    let step2 = prepare_step2(pith, ypu, &knots, all.clone(), samples, cfg)
         .with_knot_anchors(anchors, cfg.knots.lambda_anchor);
     let params = Step2Params {
         theta: vec![0.0; step2.layout.rates.len()],
@@ -358,35 +359,69 @@ impl crate::texture::SolidTexture for PithRadius {
 }
 
 /// Ring-image samples of the used faces: every `stride`-th pixel away from the border, as
-/// 3D points and grey values.
-fn face_pixels(sample: &Sample, border: usize, stride: usize) -> (Vec<Vec3>, Vec<f32>) {
+/// 3D points and grey values, face after face.
+struct FacePixels {
+    points: Vec<Vec3>,
+    targets: Vec<f32>,
+    /// Samples per face (every face contributes the same number).
+    per_face: usize,
+}
+
+fn face_pixels(sample: &Sample, border: usize, stride: usize) -> FacePixels {
     let (mut points, mut targets) = (Vec::new(), Vec::new());
+    let mut per_face = 0;
     for &face in &sample.faces {
         let Some(arl) = sample.ring_image(face) else {
             continue;
         };
         let n = arl.width;
+        let before = points.len();
         for r in (border..n.saturating_sub(border)).step_by(stride) {
             for c in (border..n.saturating_sub(border)).step_by(stride) {
                 points.push(face.pixel_point(r, c, n));
                 targets.push(arl.get(r, c, 0));
             }
         }
+        per_face = points.len() - before;
     }
-    (points, targets)
+    FacePixels {
+        points,
+        targets,
+        per_face,
+    }
 }
 
-/// Years per cube unit from the ring spacing along r: the ring images binned over r around
-/// the pith give a grey profile whose peaks are the rings.
-fn years_per_unit(
-    pith: &PithAxis,
-    (points, targets): &(Vec<Vec3>, Vec<f32>),
-    cfg: &FitConfig,
-) -> f32 {
-    let radii: Vec<f32> = points.iter().map(|&p| pith.radius(p)).collect();
-    let peaks = profile_peaks(&radii, targets, SPACING_BINS, &cfg.rings);
-    match median_spacing(&peaks) {
-        Some(s) if s > 0.0 => 1.0 / s,
+/// Years per cube unit from the ring spacing along r: on each face the ring image binned
+/// over r around the pith gives a grey profile whose peaks are the rings; the spacing is the
+/// median of all faces' gaps between neighbouring peaks. Per face, because the undistorted
+/// G = r puts a ring at a slightly different r on each face: pooled into one profile, the
+/// faces' peaks interleave and halve the apparent spacing wherever more than one face shows
+/// rings at the same r (predicted ring images, which mark rings the U-Net leaves dark, made
+/// H11 fit twice its rings that way).
+fn years_per_unit(pith: &PithAxis, pixels: &FacePixels, cfg: &FitConfig) -> f32 {
+    let radii: Vec<f32> = pixels.points.iter().map(|&p| pith.radius(p)).collect();
+    let whole = GRange::of(&radii, 0.0);
+    // Only the peaks seen: gaps filled with evenly spaced rings would repeat one face's guess.
+    let seen_only = RingPeakConfig {
+        gap_factor: f32::INFINITY,
+        ..cfg.rings.clone()
+    };
+    let mut gaps = Vec::new();
+    for (r, t) in radii
+        .chunks(pixels.per_face.max(1))
+        .zip(pixels.targets.chunks(pixels.per_face.max(1)))
+    {
+        let face = GRange::of(r, 0.0);
+        let share = (face.hi - face.lo) / (whole.hi - whole.lo).max(1e-9);
+        let bins = (SPACING_BINS as f32 * share).round() as usize;
+        let peaks = profile_peaks(r, t, bins.max(8), &seen_only);
+        gaps.extend(peaks.windows(2).map(|w| w[1] - w[0]));
+    }
+    if gaps.is_empty() {
+        return FALLBACK_YEARS_PER_UNIT;
+    }
+    match super::iso_loss::median(&gaps) {
+        s if s > 0.0 => 1.0 / s,
         _ => FALLBACK_YEARS_PER_UNIT,
     }
 }
@@ -450,13 +485,17 @@ fn initial_map(step2: &Step2, knots: &[KnotConfig], nodes: usize) -> Vec<f32> {
 
 /// Bins per year of the fine grey profile whose peaks are the rings (`ring_peaks`).
 const RING_BINS_PER_YEAR: f32 = 16.0;
-/// Bins of the grey profile over r that gives the ring spacing before step 2.
-const SPACING_BINS: usize = 512;
+/// Bins (over the whole range of r of all faces) of the grey profiles over r that give the
+/// ring spacing before step 2: about 16 per ring of the real cubes, so that the noise of one
+/// face's few pixels per bin does not split a ring into several peaks.
+const SPACING_BINS: usize = 256;
 
 /// The ring positions (raw stem time) of the fitted field: peaks of the ring images of all
 /// face pixels binned by G.
 fn rings_of(field: &GrowthField, sample: &Sample, cfg: &FitConfig) -> Option<RingsConfig> {
-    let (points, targets) = face_pixels(sample, cfg.contours.border, 1);
+    let FacePixels {
+        points, targets, ..
+    } = face_pixels(sample, cfg.contours.border, 1);
     let g: Vec<f32> = points.iter().map(|&p| field.raw_sample(p).g).collect();
     let range = GRange::of(&g, 0.0);
     let bins = ((range.hi - range.lo) * RING_BINS_PER_YEAR).round() as usize;
