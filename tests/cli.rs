@@ -1,37 +1,9 @@
 //! The `xylem` binary end to end on tiny sizes: outputs, config copies, errors.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::path::Path;
 
-fn xylem() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_xylem"))
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("xylem-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
-}
-
-fn repo(path: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
-}
-
-fn run_ok(cmd: &mut Command) -> String {
-    let out = cmd.output().expect("run xylem");
-    assert!(
-        out.status.success(),
-        "xylem failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8_lossy(&out.stdout).into_owned()
-}
-
-fn run_err(cmd: &mut Command) -> String {
-    let out = cmd.output().expect("run xylem");
-    assert!(!out.status.success(), "xylem should have failed");
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
+mod common;
+use common::{repo, run_err, run_ok, scratch, xylem};
 
 #[test]
 fn field_writes_faces_cuts_cross_and_config() {

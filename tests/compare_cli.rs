@@ -1,16 +1,13 @@
 //! `xylem compare` and `xylem texture2d` end to end on tiny images.
 
 mod common;
+use common::xylem;
 
 use std::path::Path;
 use std::process::Command;
 
 use xylem::Image2;
 use xylem::io::{load_rgb, save_png};
-
-fn xylem() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_xylem"))
-}
 
 fn run(cmd: &mut Command) -> (bool, String, String) {
     let out = cmd.output().expect("run xylem");

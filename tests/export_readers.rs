@@ -37,7 +37,7 @@ fn probe_colour() -> [f32; 3] {
     [3.0 / 4.0, 1.0 / 6.0, 6.0 / 8.0]
 }
 
-fn write_nrrd(name: &str) -> (std::path::PathBuf, std::path::PathBuf) {
+fn write_nrrd(name: &str) -> (common::Scratch, std::path::PathBuf) {
     let dir = common::scratch(name);
     let path = dir.join("wood.nrrd");
     let volume = index_colour(DIMS);

@@ -3,6 +3,9 @@
 //! burn's autodiff, on every instruction set this CPU has, and results do not depend on the
 //! number of threads.
 
+mod common;
+use common::random;
+
 use burn::module::Param;
 use burn::tensor::{Device, Tensor};
 use xylem::frame::Face;
@@ -15,12 +18,6 @@ use xylem::nca::region::Region;
 use xylem::nca::tensors::{tensor_from, to_vec};
 use xylem::nca::unroll::unroll;
 use xylem::nca::{ModelSpec, perception::PerceptionImpl};
-use xylem::rng::Rng;
-
-fn random(n: usize, scale: f32, seed: u64) -> Vec<f32> {
-    let mut rng = Rng::new(seed);
-    (0..n).map(|_| scale * rng.normal()).collect()
-}
 
 fn spec(hidden: usize, conditioning: Vec<CondChannel>) -> ModelSpec {
     ModelSpec {

@@ -1,11 +1,10 @@
 //! NCA training end to end on a tiny synthetic sample: the loss goes down, a killed run
 //! resumed from its checkpoint continues exactly, and the CLI works on flex and ndarray.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::path::Path;
 
 mod common;
-use common::scratch;
+use common::{repo, run_ok, scratch, xylem};
 
 use xylem::Image2;
 use xylem::device::DeviceKind;
@@ -25,10 +24,6 @@ use xylem::presets::load_field_preset;
 use xylem::rng::hash3;
 use xylem::sample::{Needs, Sample};
 use xylem::slice::slice_face;
-
-fn repo(path: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
-}
 
 /// Six 16 x 16 photos of the `distorted` preset: brown wood with dark rings and pixel noise.
 fn write_sample(dir: &Path) {
@@ -254,19 +249,6 @@ fn resume_continues_exactly_like_an_uninterrupted_run() {
     .to_string();
     assert!(err.contains("--resume"), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
-}
-
-fn xylem() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_xylem"))
-}
-
-fn run_ok(cmd: &mut Command) {
-    let out = cmd.output().expect("run xylem");
-    assert!(
-        out.status.success(),
-        "xylem failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
 }
 
 #[test]

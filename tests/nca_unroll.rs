@@ -2,6 +2,9 @@
 //! through an unroll equal to finite differences, and segment checkpointing equal to full
 //! backprop.
 
+mod common;
+use common::random;
+
 use burn::module::Param;
 use burn::tensor::{Device, Tensor};
 use xylem::Image2;
@@ -23,11 +26,6 @@ fn spec() -> ModelSpec {
         hidden: 16,
         ..ModelSpec::default()
     }
-}
-
-fn random(n: usize, scale: f32, seed: u64) -> Vec<f32> {
-    let mut rng = Rng::new(seed);
-    (0..n).map(|_| scale * rng.normal()).collect()
 }
 
 /// A model with all three tensors random (a fresh model has w2 = 0, where the first layer

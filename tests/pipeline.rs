@@ -4,26 +4,11 @@
 //! runs with predicted ring images.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 mod common;
-use common::{mokume_dir, scratch};
+use common::{mokume_dir, run_ok_said, scratch, xylem};
 
 use xylem::report::MetricsTable;
-
-fn xylem() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_xylem"))
-}
-
-fn run_ok(cmd: &mut Command) -> String {
-    let out = cmd.output().expect("run xylem");
-    assert!(
-        out.status.success(),
-        "xylem failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
 
 /// A 16^3 NCA trained for 3 iterations on whole faces (the smallest the style loss accepts).
 fn tiny_nca(dir: &Path) -> PathBuf {
@@ -68,7 +53,7 @@ fn demo_runs_every_stage_and_resumes_by_skipping_finished_ones() {
             .arg(&run);
         cmd
     };
-    let log = run_ok(&mut demo());
+    let log = run_ok_said(&mut demo());
     assert!(
         log.contains("== fit\n") && log.contains("== train\n"),
         "{log}"
@@ -110,7 +95,7 @@ fn demo_runs_every_stage_and_resumes_by_skipping_finished_ones() {
         .unwrap()
         .modified()
         .unwrap();
-    let log = run_ok(&mut demo());
+    let log = run_ok_said(&mut demo());
     for stage in ["fit", "train", "synth"] {
         assert!(
             log.contains(&format!("== {stage} (done, skipped)")),
@@ -125,7 +110,7 @@ fn demo_runs_every_stage_and_resumes_by_skipping_finished_ones() {
 
     // A stage without its completion marker (killed after its first file) is redone.
     std::fs::remove_file(run.join("synth/.done")).unwrap();
-    let log = run_ok(&mut demo());
+    let log = run_ok_said(&mut demo());
     assert!(log.contains("== synth\n"), "{log}");
     assert!(run.join("synth/.done").is_file());
 

@@ -39,7 +39,7 @@ fn os(parts: &[&dyn AsRef<std::ffi::OsStr>]) -> Vec<OsString> {
 }
 
 struct Setup {
-    dir: PathBuf,
+    dir: reliability_support::Scratch,
     field: PathBuf,
     sample: PathBuf,
     nca: PathBuf,

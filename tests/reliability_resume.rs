@@ -20,7 +20,7 @@ use reliability_support::{
 };
 
 struct Inputs {
-    dir: PathBuf,
+    dir: reliability_support::Scratch,
     sample: PathBuf,
     nca: PathBuf,
     fit: PathBuf,

@@ -2,9 +2,9 @@
 //! alone runs through `xylem fit`, and bad folders get errors that name the file.
 
 mod common;
+use common::xylem;
 
 use std::path::Path;
-use std::process::Command;
 
 use xylem::Face;
 use xylem::config::Checker;
@@ -15,12 +15,8 @@ use xylem::procedural::write_sample;
 use xylem::rings::{LocaliserConfig, RingSource, agreement, load_with_rings, localise};
 use xylem::sample::Sample;
 
-fn xylem() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_xylem"))
-}
-
 /// A `xylem sample` of `species` at `size` px in a fresh scratch folder.
-fn synthetic_sample(name: &str, species: &str, size: usize) -> std::path::PathBuf {
+fn synthetic_sample(name: &str, species: &str, size: usize) -> common::Scratch {
     let dir = common::scratch(name);
     let wood = load_species_preset(species).unwrap();
     write_sample(&wood, species, size, &OutputDir::prepare(&dir).unwrap()).unwrap();
@@ -28,7 +24,7 @@ fn synthetic_sample(name: &str, species: &str, size: usize) -> std::path::PathBu
 }
 
 /// A folder with only the photos (and knot markers) of `from`.
-fn photos_only(from: &Path, name: &str) -> std::path::PathBuf {
+fn photos_only(from: &Path, name: &str) -> common::Scratch {
     let dir = common::scratch(name);
     std::fs::create_dir_all(&dir).unwrap();
     for face in Face::ALL {
@@ -203,9 +199,6 @@ fn a_folder_of_photos_alone_runs_through_fit_and_rings() {
     )
     .unwrap();
     assert_eq!(sample.size, 96);
-    for dir in [&full, &photos, &out, &rings_out] {
-        let _ = std::fs::remove_dir_all(dir);
-    }
     let _ = std::fs::remove_file(&config);
 }
 

@@ -1,7 +1,8 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::process::Command;
 
 /// The real Mokume data folder: `XYLEM_MOKUME_DIR`, or `../shared/data/mokume` beside the
 /// checkout. CI has it; a missing folder fails the test (set XYLEM_SKIP_REAL_DATA=1 to skip
@@ -26,11 +27,96 @@ pub fn mokume_dir() -> Option<PathBuf> {
     );
 }
 
-/// A fresh scratch folder for one test (removed first if a previous run left it).
-pub fn scratch(name: &str) -> PathBuf {
+/// A scratch folder for one test: removed first if an earlier run left it, and removed again
+/// when the guard is dropped, so a failing (panicking) test does not leak it either. Set
+/// `XYLEM_KEEP_SCRATCH=1` to keep the folders for a look after a failure. Not created; it
+/// derefs to its `Path`.
+pub struct Scratch(PathBuf);
+
+impl Scratch {
+    pub fn path(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl std::ops::Deref for Scratch {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl AsRef<Path> for Scratch {
+    fn as_ref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl AsRef<std::ffi::OsStr> for Scratch {
+    fn as_ref(&self) -> &std::ffi::OsStr {
+        self.0.as_os_str()
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        if std::env::var_os("XYLEM_KEEP_SCRATCH").is_none() {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
+}
+
+/// A fresh scratch folder for one test, named after the test process and `name`.
+pub fn scratch(name: &str) -> Scratch {
     let dir = std::env::temp_dir().join(format!("xylem-test-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    dir
+    Scratch(dir)
+}
+
+/// The `xylem` binary built for these tests.
+pub fn xylem() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_xylem"))
+}
+
+/// A path inside the repository.
+pub fn repo(path: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
+}
+
+/// Runs `cmd`, which must succeed; returns its stdout.
+pub fn run_ok(cmd: &mut Command) -> String {
+    let out = cmd.output().expect("run xylem");
+    assert!(
+        out.status.success(),
+        "xylem failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+/// Runs `cmd`, which must succeed; returns what it said (stdout, then stderr).
+pub fn run_ok_said(cmd: &mut Command) -> String {
+    let out = cmd.output().expect("run xylem");
+    let said = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(out.status.success(), "xylem failed: {said}");
+    said
+}
+
+/// Runs `cmd`, which must fail; returns its stderr.
+pub fn run_err(cmd: &mut Command) -> String {
+    let out = cmd.output().expect("run xylem");
+    assert!(!out.status.success(), "xylem should have failed");
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// `n` seeded normal values times `scale`.
+pub fn random(n: usize, scale: f32, seed: u64) -> Vec<f32> {
+    let mut rng = xylem::rng::Rng::new(seed);
+    (0..n).map(|_| scale * rng.normal()).collect()
 }
 
 /// A Python interpreter that can `import module` (an independent reader such as `openvdb`,

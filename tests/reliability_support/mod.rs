@@ -11,14 +11,6 @@ use std::time::{Duration, Instant};
 /// No single xylem call of the suite may take longer (the "hang").
 pub const TIME_LIMIT: Duration = Duration::from_secs(30);
 
-pub fn xylem() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_xylem"))
-}
-
-pub fn repo(path: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
-}
-
 /// What a finished xylem process left.
 #[derive(Debug)]
 pub struct Outcome {
@@ -182,8 +174,11 @@ impl Tally {
     }
 }
 
-/// A fresh, existing scratch folder (`common::scratch`, created).
-pub fn scratch(name: &str) -> PathBuf {
+#[allow(unused_imports)]
+pub use crate::common::{Scratch, repo, xylem};
+
+/// A fresh, existing scratch folder (`common::scratch`, created; removed when dropped).
+pub fn scratch(name: &str) -> Scratch {
     let dir = crate::common::scratch(name);
     std::fs::create_dir_all(&dir).expect("create scratch folder");
     dir
