@@ -204,39 +204,25 @@ fn run_on_real_data_reports_the_held_out_face() {
 fn run_on_photos_alone_predicts_the_ring_images() {
     let Some(data) = mokume_dir() else { return };
     let dir = scratch("run-h11-photos");
-    let photos = dir.join("H11-photos");
-    std::fs::create_dir_all(&photos).unwrap();
-    for face in ["A", "B", "C", "D", "E", "F"] {
-        for name in [format!("{face}_col.png"), format!("{face}_knot.png")] {
-            if data.join("H11").join(&name).is_file() {
-                std::fs::copy(data.join("H11").join(&name), photos.join(&name)).unwrap();
-            }
-        }
-    }
+    let photos = common::photos_only(&data.join("H11"), "run-h11-photos-only");
     let nca = tiny_nca(&dir);
     let run = dir.join("run");
-    let output = xylem()
-        .args([
-            "run",
-            "--synth-steps",
-            "2",
-            "--image-size",
-            "64",
-            "--sample",
-        ])
-        .arg(&photos)
-        .arg("--nca-config")
-        .arg(&nca)
-        .arg("--out")
-        .arg(&run)
-        .output()
-        .expect("run xylem");
-    let said = format!(
-        "{}{}",
-        String::from_utf8_lossy(&output.stdout),
-        String::from_utf8_lossy(&output.stderr)
+    let said = run_ok_said(
+        xylem()
+            .args([
+                "run",
+                "--synth-steps",
+                "2",
+                "--image-size",
+                "64",
+                "--sample",
+            ])
+            .arg(&photos)
+            .arg("--nca-config")
+            .arg(&nca)
+            .arg("--out")
+            .arg(&run),
     );
-    assert!(output.status.success(), "{said}");
     assert!(
         said.contains("ring images predicted from the photos for faces A,B,C,D,E,F"),
         "{said}"

@@ -2,7 +2,7 @@
 //! alone runs through `xylem fit`, and bad folders get errors that name the file.
 
 mod common;
-use common::xylem;
+use common::{photos_only, run_ok_said, xylem};
 
 use std::path::Path;
 
@@ -20,20 +20,6 @@ fn synthetic_sample(name: &str, species: &str, size: usize) -> common::Scratch {
     let dir = common::scratch(name);
     let wood = load_species_preset(species).unwrap();
     write_sample(&wood, species, size, &OutputDir::prepare(&dir).unwrap()).unwrap();
-    dir
-}
-
-/// A folder with only the photos (and knot markers) of `from`.
-fn photos_only(from: &Path, name: &str) -> common::Scratch {
-    let dir = common::scratch(name);
-    std::fs::create_dir_all(&dir).unwrap();
-    for face in Face::ALL {
-        for file in [format!("{face}_col.png"), format!("{face}_knot.png")] {
-            if from.join(&file).is_file() {
-                std::fs::copy(from.join(&file), dir.join(&file)).unwrap();
-            }
-        }
-    }
     dir
 }
 
@@ -133,21 +119,15 @@ fn a_folder_of_photos_alone_runs_through_fit_and_rings() {
     let config = photos.with_extension("toml");
     std::fs::write(&config, QUICK_FIT).unwrap();
     let out = common::scratch("rings-fit-out");
-    let result = xylem()
-        .args(["fit", "--quiet", "--sample"])
-        .arg(&photos)
-        .arg("--out")
-        .arg(&out)
-        .arg("--config")
-        .arg(&config)
-        .output()
-        .unwrap();
-    let said = format!(
-        "{}{}",
-        String::from_utf8_lossy(&result.stdout),
-        String::from_utf8_lossy(&result.stderr)
+    let said = run_ok_said(
+        xylem()
+            .args(["fit", "--quiet", "--sample"])
+            .arg(&photos)
+            .arg("--out")
+            .arg(&out)
+            .arg("--config")
+            .arg(&config),
     );
-    assert!(result.status.success(), "{said}");
     assert!(
         said.contains("predicted from the photos for faces A,B,C,D,E,F"),
         "{said}"

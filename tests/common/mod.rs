@@ -113,6 +113,21 @@ pub fn run_err(cmd: &mut Command) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
 
+/// A scratch folder holding only the face photos and knot markers of the sample in `from`
+/// (a cube that comes without ring images).
+pub fn photos_only(from: &Path, name: &str) -> Scratch {
+    let dir = scratch(name);
+    std::fs::create_dir_all(&dir).unwrap();
+    for face in ["A", "B", "C", "D", "E", "F"] {
+        for file in [format!("{face}_col.png"), format!("{face}_knot.png")] {
+            if from.join(&file).is_file() {
+                std::fs::copy(from.join(&file), dir.join(&file)).unwrap();
+            }
+        }
+    }
+    dir
+}
+
 /// `n` seeded normal values times `scale`.
 pub fn random(n: usize, scale: f32, seed: u64) -> Vec<f32> {
     let mut rng = xylem::rng::Rng::new(seed);
