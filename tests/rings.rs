@@ -133,6 +133,15 @@ fn a_folder_of_photos_alone_runs_through_fit_and_rings() {
         "{said}"
     );
     assert!(out.join("fit.toml").is_file() && out.join("sheet.png").is_file());
+    // The sheet's first tile is the photo of face A (it was blank for folders without ring
+    // images): not one flat colour.
+    let sheet = load_rgb(&out.join("sheet.png")).unwrap();
+    let tile = sheet.crop(0, 0, 96, 96).unwrap();
+    let first = tile.pixel(0, 0).to_vec();
+    assert!(
+        (0..96).any(|r| (0..96).any(|c| tile.pixel(r, c) != first.as_slice())),
+        "the photo tile of the fit's sheet is blank"
+    );
 
     let given = xylem()
         .args(["fit", "--quiet", "--rings", "given", "--sample"])

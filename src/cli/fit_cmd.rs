@@ -81,10 +81,7 @@ pub fn run(args: FitArgs) -> Result<()> {
         .with_context(|| format!("fitting {}", args.sample.display()))?;
     bar.finish();
 
-    let mut display = display_images(&args.sample);
-    for &face in &sample.faces {
-        display.targets[face.index()] = sample.ring_image(face).cloned();
-    }
+    let display = display_images(&sample);
     write_fit(
         &out,
         &result,
@@ -127,21 +124,24 @@ fn say_predicted(faces: &[Face]) {
     }
 }
 
-/// Photos and ring images of all six faces for the sheet, as far as the folder has them
-/// (faces left out of the fit are shown, never fitted).
-fn display_images(dir: &std::path::Path) -> Display {
+/// Photos and ring images of all six faces for the sheet: the fitted faces' as the fit used
+/// them (predicted ring images included), the others as far as the folder has them (shown,
+/// never fitted; a photo without a ring image is still shown).
+fn display_images(sample: &Sample) -> Display {
     let mut display = Display {
-        photos: Default::default(),
-        targets: Default::default(),
+        photos: sample.photos.clone(),
+        targets: sample.arl.clone(),
     };
-    for face in Face::ALL {
-        let needs = Needs {
-            photos: true,
-            arl: true,
-        };
-        if let Ok(s) = Sample::load(dir, &[face], needs) {
-            display.photos[face.index()] = s.photos[face.index()].clone();
-            display.targets[face.index()] = s.arl[face.index()].clone();
+    let photo_only = Needs {
+        photos: true,
+        arl: false,
+    };
+    for face in Face::ALL.into_iter().filter(|f| !sample.faces.contains(f)) {
+        if let Ok(mut s) = Sample::load(&sample.dir, &[face], photo_only) {
+            // A ring image of another size than its photo is left out.
+            let _ = s.load_ring_image(face);
+            display.photos[face.index()] = s.photos[face.index()].take();
+            display.targets[face.index()] = s.arl[face.index()].take();
         }
     }
     display
