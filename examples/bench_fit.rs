@@ -23,10 +23,10 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use xylem::field::{FieldConfig, GrowthField, PithAxis, RingImage};
-use xylem::fit::contours::{ContourSet, face_contours};
 use xylem::fit::metrics::{
     axis_errors, iso_error_mm, shifted_correlation, truth_ring_correlations,
 };
+use xylem::fit::run::contour_set;
 use xylem::fit::{FitConfig, FitResult, fit_sample, write_synthetic_sample};
 use xylem::frame::Face;
 use xylem::sample::{Needs, Sample};
@@ -147,7 +147,7 @@ fn report_case(name: &str, truth_cfg: &FieldConfig, dir: &Path, cfg: &FitConfig)
         let truth = GrowthField::from_config(truth_cfg);
         let fitted = GrowthField::from_config(&result.field);
         let (dist, angle) = axis_errors(&result.step1_pith, &truth.pith);
-        let set = all_contours(&sample, cfg, &Face::ALL);
+        let set = contour_set(&sample, &Face::ALL, cfg);
         let truth_iso = iso_error_mm(&truth, &set);
         let [faces, cut1, cut2] = truth_ring_correlations(&fitted, &truth, SIZE);
         println!(
@@ -208,7 +208,7 @@ fn lofo(cfg: &FitConfig) {
                 let predicted = slice_face(t, held, target.width);
                 shifted_correlation(&predicted, target, cfg.contours.border, SHIFT)
             };
-            let held_set = all_contours(&full, cfg, &[held]);
+            let held_set = contour_set(&full, &[held], cfg);
             let step1_field = Step1Field(r.step1_pith);
             let row = (
                 corr(&step1),
@@ -256,14 +256,6 @@ impl SolidTexture for Step1Field {
     fn eval(&self, p: glam::Vec3, out: &mut [f32]) {
         out[0] = self.0.radius(p);
     }
-}
-
-fn all_contours(sample: &Sample, cfg: &FitConfig, faces: &[Face]) -> ContourSet {
-    let contours: Vec<_> = faces
-        .iter()
-        .flat_map(|&f| face_contours(sample.ring_image(f).expect("ARL"), f, &cfg.contours))
-        .collect();
-    ContourSet::new(&contours, cfg.contours.max_points)
 }
 
 fn mean(values: impl IntoIterator<Item = f32>) -> f32 {

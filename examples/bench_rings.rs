@@ -22,8 +22,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use xylem::field::{FieldConfig, GrowthField, RingImage};
-use xylem::fit::contours::{ContourSet, face_contours};
 use xylem::fit::metrics::{iso_error_mm, shifted_correlation, truth_ring_correlations};
+use xylem::fit::run::contour_set;
 use xylem::fit::{FitConfig, FitResult, fit_sample};
 use xylem::frame::Face;
 use xylem::rings::{RingSource, agreement, load_with_rings};
@@ -121,7 +121,7 @@ fn real(cfg: &FitConfig) {
     for name in ["CN03", "H11"] {
         let dir = mokume_dir().join(name);
         let given = load(&dir, &Face::ALL, RingSource::Given, cfg);
-        let set = contours(&given, cfg, &Face::ALL);
+        let set = contour_set(&given, &Face::ALL, cfg);
         for source in SOURCES {
             let sample = load(&dir, &Face::ALL, source, cfg);
             let started = Instant::now();
@@ -164,10 +164,10 @@ fn synthetic(cfg: &FitConfig) {
         let dir = root.join(species);
         let truth_cfg = FieldConfig::load(&dir.join("truth/field.toml")).expect("truth field");
         let truth = GrowthField::from_config(&truth_cfg);
-        let exact = contours(
+        let exact = contour_set(
             &load(&dir, &Face::ALL, RingSource::Given, cfg),
-            cfg,
             &Face::ALL,
+            cfg,
         );
         for source in SOURCES {
             let sample = load(&dir, &Face::ALL, source, cfg);
@@ -207,7 +207,7 @@ fn lofo(cfg: &FitConfig) {
                 let target = given.ring_image(held).expect("given");
                 let predicted = slice_face(&RingImage(&field), held, target.width);
                 let corr = shifted_correlation(&predicted, target, cfg.contours.border, SHIFT);
-                let error = iso_error_mm(&field, &contours(&given, cfg, &[held]));
+                let error = iso_error_mm(&field, &contour_set(&given, &[held], cfg));
                 println!("| {name} | {source} | {held} | {corr:.2} | {error:.3} |");
                 corrs.push(corr);
                 errors.push(error);
@@ -219,14 +219,6 @@ fn lofo(cfg: &FitConfig) {
             );
         }
     }
-}
-
-fn contours(sample: &Sample, cfg: &FitConfig, faces: &[Face]) -> ContourSet {
-    let all: Vec<_> = faces
-        .iter()
-        .flat_map(|&f| face_contours(sample.ring_image(f).expect("ARL"), f, &cfg.contours))
-        .collect();
-    ContourSet::new(&all, cfg.contours.max_points)
 }
 
 fn mean(values: impl IntoIterator<Item = f32>) -> f32 {

@@ -76,7 +76,7 @@ pub fn ring_source(s: &str) -> std::result::Result<xylem::rings::RingSource, Str
     s.parse().map_err(|_| {
         format!(
             "{s:?} is not a ring source; expected one of {}",
-            xylem::rings::RingSource::NAMES.join(", ")
+            xylem::rings::RingSource::ALL.map(|r| r.name()).join(", ")
         )
     })
 }

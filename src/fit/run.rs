@@ -222,6 +222,21 @@ pub fn sample_contours(sample: &Sample, cfg: &FitConfig) -> Result<Vec<Contour>>
     Ok(contours)
 }
 
+/// The contour set of `faces` (those with a ring image loaded), as the iso errors of the
+/// benchmarks measure a field against a sample's rings.
+pub fn contour_set(sample: &Sample, faces: &[Face], cfg: &FitConfig) -> ContourSet {
+    let contours: Vec<Contour> = faces
+        .iter()
+        .filter_map(|&f| {
+            sample
+                .ring_image(f)
+                .map(|arl| face_contours(arl, f, &cfg.contours))
+        })
+        .flatten()
+        .collect();
+    ContourSet::new(&contours, cfg.contours.max_points)
+}
+
 /// Contour points away from the marked knots (all points if that leaves fewer than 2
 /// contours).
 fn without_knots(all: &ContourSet, marks: &[MarkedKnot], exclusion: f32) -> ContourSet {

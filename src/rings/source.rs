@@ -25,17 +25,21 @@ pub enum RingSource {
 }
 
 impl RingSource {
-    pub const NAMES: [&'static str; 3] = ["auto", "given", "predict"];
+    pub const ALL: [RingSource; 3] = [RingSource::Auto, RingSource::Given, RingSource::Predict];
+
+    /// The name `--rings` takes.
+    pub fn name(self) -> &'static str {
+        match self {
+            RingSource::Auto => "auto",
+            RingSource::Given => "given",
+            RingSource::Predict => "predict",
+        }
+    }
 }
 
 impl fmt::Display for RingSource {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let name = match self {
-            RingSource::Auto => "auto",
-            RingSource::Given => "given",
-            RingSource::Predict => "predict",
-        };
-        f.write_str(name)
+        f.write_str(self.name())
     }
 }
 
@@ -43,15 +47,15 @@ impl FromStr for RingSource {
     type Err = XylemError;
 
     fn from_str(s: &str) -> Result<Self> {
-        match s {
-            "auto" => Ok(RingSource::Auto),
-            "given" => Ok(RingSource::Given),
-            "predict" => Ok(RingSource::Predict),
-            other => Err(XylemError::input(
-                format!("ring source {other:?}"),
-                "expected auto, given or predict",
-            )),
-        }
+        Self::ALL
+            .into_iter()
+            .find(|source| source.name() == s)
+            .ok_or_else(|| {
+                XylemError::input(
+                    format!("ring source {s:?}"),
+                    "expected auto, given or predict",
+                )
+            })
     }
 }
 
