@@ -121,8 +121,15 @@ fn identity_reproduces_b(fit: FitRecord) {
 #[test]
 fn fused_and_burn_synthesis_agree() {
     let device = Device::flex();
+    // Every conditioning channel, so both engines must also see the same grain noise.
     let spec = ModelSpec {
         hidden: 16,
+        conditioning: vec![
+            CondChannel::GreyB,
+            CondChannel::G,
+            CondChannel::RingPhase,
+            CondChannel::GrainNoise,
+        ],
         ..ModelSpec::default()
     };
     let mut trained = trained(&spec, real_fit(), &device);

@@ -23,9 +23,12 @@
 use std::sync::Arc;
 
 use burn::tensor::{Device, Tensor};
+use glam::Vec3;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use super::config::ModelSpec;
+use super::grain_noise::GrainNoise;
 use super::region::Region;
 use super::tensors::tensor_from;
 use crate::texture::SolidTexture;
@@ -43,13 +46,15 @@ pub enum CondChannel {
     G,
     /// 0.5 cos(2 pi G), 0.5 sin(2 pi G) (2 channels).
     RingPhase,
+    /// Half of the grain-aligned noise (`grain_noise.rs`, 1 channel): tubes along the fibres.
+    GrainNoise,
 }
 
 impl CondChannel {
     /// Number of tensor channels.
     pub fn width(self) -> usize {
         match self {
-            CondChannel::GreyB | CondChannel::G => 1,
+            CondChannel::GreyB | CondChannel::G | CondChannel::GrainNoise => 1,
             CondChannel::RgbB => 3,
             CondChannel::RingPhase => 2,
         }
@@ -63,6 +68,10 @@ pub struct Conditioning {
     pub growth: Arc<dyn SolidTexture>,
     /// B in photo colours, RGB in [0, 1] (3 channels).
     pub colour: Arc<dyn SolidTexture>,
+    /// The fitted pith direction (unit, cube frame): the fibre axis of the grain noise.
+    pub fibre_axis: Vec3,
+    /// The grain noise, set by [`Conditioning::for_model`] for models that perceive it.
+    pub grain: Option<Arc<GrainNoise>>,
 }
 
 /// How raw B and G are scaled into conditioning channels; fixed at training time and stored
@@ -80,6 +89,8 @@ pub struct Normalisation {
 pub struct CondVolumes {
     pub g: Volume,
     pub b: Volume,
+    /// The grain noise (1 channel) where the conditioning has one.
+    pub grain: Option<Volume>,
 }
 
 /// Grid side on which the range of G over the cube is measured.
@@ -91,7 +102,20 @@ impl Conditioning {
         CondVolumes {
             g: sample_region(self.growth.as_ref(), region),
             b: sample_region(self.colour.as_ref(), region),
+            grain: self
+                .grain
+                .as_ref()
+                .map(|n| sample_region(n.as_ref(), region)),
         }
+    }
+
+    /// Adds the grain noise of realisation `seed` when `spec` perceives it.
+    pub fn for_model(mut self, spec: &ModelSpec, seed: u64) -> Self {
+        if spec.conditioning.contains(&CondChannel::GrainNoise) {
+            let noise = GrainNoise::new(&spec.grain_noise, self.fibre_axis, seed);
+            self.grain = Some(Arc::new(noise));
+        }
+        self
     }
 
     /// The normalisation for this sample: range of G over a 32^3 grid of the cube, and the
@@ -188,6 +212,13 @@ impl Normalisation {
                         let phase = std::f32::consts::TAU * g;
                         data[base * n + v] = 0.5 * phase.cos();
                         data[(base + 1) * n + v] = 0.5 * phase.sin();
+                    }
+                    CondChannel::GrainNoise => {
+                        let grain = vols
+                            .grain
+                            .as_ref()
+                            .expect("grain noise sampled: the conditioning went through for_model");
+                        data[base * n + v] = 0.5 * grain.data[v];
                     }
                 }
             }

@@ -10,6 +10,7 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use super::conditioning::CondChannel;
+use super::grain_noise::GrainNoiseSpec;
 use super::perception::PerceptionImpl;
 use super::placement::Placement;
 use super::style_face_loss::FaceLossKind;
@@ -57,6 +58,9 @@ pub struct ModelSpec {
     /// Amplitude of the uniform seed state, [-a, a].
     #[serde(default = "default_seed_amplitude")]
     pub seed_amplitude: f32,
+    /// Cell sizes of the `grain_noise` conditioning channel.
+    #[serde(default)]
+    pub grain_noise: GrainNoiseSpec,
 }
 
 /// The training grid and the part of it each iteration unrolls.
@@ -292,6 +296,7 @@ impl Default for ModelSpec {
             conditioning: default_conditioning(),
             perception: PerceptionImpl::default(),
             seed_amplitude: default_seed_amplitude(),
+            grain_noise: GrainNoiseSpec::default(),
         }
     }
 }
@@ -340,7 +345,8 @@ impl ModelSpec {
             0.0,
             1.0,
             "seed amplitude",
-        )
+        )?;
+        self.grain_noise.validate(&check.nested("grain_noise"))
     }
 }
 

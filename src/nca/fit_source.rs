@@ -129,8 +129,10 @@ impl FitRecord {
             (None, None) => unreachable!("load() gives a ramp to fields without base colour"),
         };
         Conditioning {
+            fibre_axis: field.pith.dir,
             growth: field,
             colour,
+            grain: None,
         }
     }
 }

@@ -46,6 +46,7 @@ pub mod face_guides;
 pub mod faces;
 pub mod fit_source;
 pub mod fused;
+pub mod grain_noise;
 pub mod guided_face_loss;
 pub mod loss;
 pub mod loss_log;

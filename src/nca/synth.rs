@@ -61,7 +61,11 @@ pub fn synthesise(
     let spec = &trained.meta.spec;
     let norm = &trained.meta.normalisation;
     let region = Region::whole(options.size);
-    let vols = trained.fit.conditioning().sample(&region);
+    let vols = trained
+        .fit
+        .conditioning()
+        .for_model(spec, options.seed)
+        .sample(&region);
     let cond = (!spec.conditioning.is_empty())
         .then(|| norm.cond_tensor(&spec.conditioning, &vols, device));
     let inputs = StepInputs::new(cond, region.positions(device), spec.perception);
@@ -118,7 +122,11 @@ pub fn synthesise_at(
     let norm = &trained.meta.normalisation;
     let region = Region::whole(options.size);
     let (cond, colour) = {
-        let vols = trained.fit.conditioning().sample(&region);
+        let vols = trained
+            .fit
+            .conditioning()
+            .for_model(spec, options.seed)
+            .sample(&region);
         (
             norm.cond_data(&spec.conditioning, &vols),
             norm.colour_data(&vols),
