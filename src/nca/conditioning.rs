@@ -109,10 +109,11 @@ impl Conditioning {
         }
     }
 
-    /// Adds the grain noise of realisation `seed` when `spec` perceives it.
-    pub fn for_model(mut self, spec: &ModelSpec, seed: u64) -> Self {
+    /// Adds the grain noise of realisation `seed` when `spec` perceives it, with its cells
+    /// scaled by `cell_scale` (`grain_noise::cell_scale`: 1 in training).
+    pub fn for_model(mut self, spec: &ModelSpec, seed: u64, cell_scale: f32) -> Self {
         if spec.conditioning.contains(&CondChannel::GrainNoise) {
-            let noise = GrainNoise::new(&spec.grain_noise, self.fibre_axis, seed);
+            let noise = GrainNoise::new(&spec.grain_noise, self.fibre_axis, seed, cell_scale);
             self.grain = Some(Arc::new(noise));
         }
         self

@@ -54,6 +54,14 @@ impl GrainNoiseSpec {
     }
 }
 
+/// The factor on the cell sizes when a model trained on a `training_grid`^3 grid fills a
+/// `grid`^3 volume. The rule learnt its texture per voxel (DESIGN: a synthesis at another size
+/// keeps the texture's size in voxels), so the noise keeps its cells' size in voxels too:
+/// twice the grid, half the cells in millimetres. Training itself uses 1.
+pub fn cell_scale(training_grid: usize, grid: usize) -> f32 {
+    training_grid as f32 / grid.max(1) as f32
+}
+
 /// Stream that separates the noise's key from every other use of the same seed.
 const GRAIN_STREAM: u64 = 0x6752_4149_4E5F_4E5A;
 
@@ -67,14 +75,15 @@ pub struct GrainNoise {
 }
 
 impl GrainNoise {
-    /// Noise with cells of `spec` along the unit `axis` (cube frame), realisation `seed`.
-    pub fn new(spec: &GrainNoiseSpec, axis: Vec3, seed: u64) -> Self {
+    /// Noise with cells of `spec` along the unit `axis` (cube frame), realisation `seed`,
+    /// the cells multiplied by `cell_scale` (see [`cell_scale`]).
+    pub fn new(spec: &GrainNoiseSpec, axis: Vec3, seed: u64, cell_scale: f32) -> Self {
         let t = axis.normalize_or(Vec3::Y);
         let e1 = t.any_orthonormal_vector();
         let e2 = t.cross(e1);
         let mm_per_unit = CM_PER_UNIT * 10.0;
-        let across = spec.across_mm / mm_per_unit;
-        let along = spec.along_mm / mm_per_unit;
+        let across = cell_scale * spec.across_mm / mm_per_unit;
+        let along = cell_scale * spec.along_mm / mm_per_unit;
         Self {
             frame: [e1 / across, e2 / across, t / along],
             key: mix64(seed ^ GRAIN_STREAM),
@@ -124,7 +133,7 @@ mod tests {
     #[test]
     fn noise_varies_slower_along_the_axis_than_across() {
         let axis = Vec3::new(0.3, 1.0, 0.1).normalize();
-        let noise = GrainNoise::new(&GrainNoiseSpec::default(), axis, 7);
+        let noise = GrainNoise::new(&GrainNoiseSpec::default(), axis, 7, 1.0);
         let step = 0.3 / (CM_PER_UNIT * 10.0); // one cell across
         let across = mean_change(&noise, axis.any_orthonormal_vector() * step);
         let along = mean_change(&noise, axis * step);
@@ -146,7 +155,7 @@ mod tests {
     fn thresholded_noise_is_dashes_on_side_grain_and_dots_on_end_grain() {
         use crate::frame::Face;
         use crate::metrics::anisotropy::pore_anisotropy;
-        let noise = GrainNoise::new(&GrainNoiseSpec::default(), Vec3::Y, 5);
+        let noise = GrainNoise::new(&GrainNoiseSpec::default(), Vec3::Y, 5, 1.0);
         let side = pore_anisotropy(&pores_on(&noise, Face::A));
         let end = pore_anisotropy(&pores_on(&noise, Face::B));
         eprintln!("aniso: side grain {side}, end grain {end}");
@@ -156,13 +165,26 @@ mod tests {
         );
     }
 
+    /// A volume twice the training grid sees the pattern at half the size in cube units, so
+    /// the same in voxels: the value at p equals the value at 2 p of the training noise.
+    #[test]
+    fn a_larger_grid_keeps_the_cells_size_in_voxels() {
+        let spec = GrainNoiseSpec::default();
+        let trained = GrainNoise::new(&spec, Vec3::Y, 3, cell_scale(128, 128));
+        let doubled = GrainNoise::new(&spec, Vec3::Y, 3, cell_scale(128, 256));
+        for p in [Vec3::new(0.1, 0.2, -0.15), Vec3::new(-0.2, 0.05, 0.1)] {
+            let (a, b) = (doubled.value(p), trained.value(2.0 * p));
+            assert!((a - b).abs() < 1e-4, "{a} vs {b}");
+        }
+    }
+
     #[test]
     fn seeds_give_different_realisations_and_the_same_seed_the_same() {
         let spec = GrainNoiseSpec::default();
-        let a = GrainNoise::new(&spec, Vec3::Y, 1);
-        let b = GrainNoise::new(&spec, Vec3::Y, 2);
+        let a = GrainNoise::new(&spec, Vec3::Y, 1, 1.0);
+        let b = GrainNoise::new(&spec, Vec3::Y, 2, 1.0);
         let p = Vec3::new(0.11, -0.2, 0.3);
-        assert_eq!(a.value(p), GrainNoise::new(&spec, Vec3::Y, 1).value(p));
+        assert_eq!(a.value(p), GrainNoise::new(&spec, Vec3::Y, 1, 1.0).value(p));
         let differ = (0..50)
             .map(|i| p + Vec3::X * (i as f32 * 0.013))
             .filter(|&q| a.value(q) != b.value(q))

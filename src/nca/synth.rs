@@ -17,6 +17,7 @@ use burn::tensor::Device;
 
 use super::config::Engine;
 use super::fused::{FixedInputs, Isa, MlpWeights, Stepper};
+use super::grain_noise::cell_scale;
 use super::model::StepInputs;
 use super::model_dir::TrainedModel;
 use super::region::Region;
@@ -64,7 +65,11 @@ pub fn synthesise(
     let vols = trained
         .fit
         .conditioning()
-        .for_model(spec, options.seed)
+        .for_model(
+            spec,
+            options.seed,
+            cell_scale(trained.meta.grid, options.size),
+        )
         .sample(&region);
     let cond = (!spec.conditioning.is_empty())
         .then(|| norm.cond_tensor(&spec.conditioning, &vols, device));
@@ -125,7 +130,11 @@ pub fn synthesise_at(
         let vols = trained
             .fit
             .conditioning()
-            .for_model(spec, options.seed)
+            .for_model(
+                spec,
+                options.seed,
+                cell_scale(trained.meta.grid, options.size),
+            )
             .sample(&region);
         (
             norm.cond_data(&spec.conditioning, &vols),

@@ -64,7 +64,9 @@ impl TrainData {
     pub fn prepare(sample: &Sample, fit: FitRecord, config: &TrainConfig) -> Self {
         let grid = config.volume.size;
         let (mut targets, photo_mean) = face_targets(sample, grid);
-        let conditioning = fit.conditioning().for_model(&config.model, config.seed);
+        let conditioning = fit
+            .conditioning()
+            .for_model(&config.model, config.seed, 1.0);
         let normalisation = conditioning.normalisation(photo_mean);
         if config.loss.target_colour == TargetColour::Base {
             match_base_means(
