@@ -15,6 +15,7 @@
 
 use burn::tensor::Device;
 
+use super::conditioning::CondVolumes;
 use super::config::Engine;
 use super::fused::{FixedInputs, Isa, MlpWeights, Stepper};
 use super::grain_noise::cell_scale;
@@ -48,6 +49,20 @@ fn check_synthesis_memory(size: usize) -> Result<()> {
     )
 }
 
+/// B, G and the model's grain noise (realisation `options.seed`) at the voxels of `region`.
+fn conditioning_volumes(
+    trained: &TrainedModel,
+    options: &SynthOptions,
+    region: &Region,
+) -> CondVolumes {
+    let scale = cell_scale(trained.meta.grid, options.size);
+    trained
+        .fit
+        .conditioning()
+        .for_model(&trained.meta.spec, options.seed, scale)
+        .sample(region)
+}
+
 /// Unrolls `trained` into an RGB volume (photo colours), calling `progress(step)`.
 pub fn synthesise(
     trained: &TrainedModel,
@@ -62,15 +77,7 @@ pub fn synthesise(
     let spec = &trained.meta.spec;
     let norm = &trained.meta.normalisation;
     let region = Region::whole(options.size);
-    let vols = trained
-        .fit
-        .conditioning()
-        .for_model(
-            spec,
-            options.seed,
-            cell_scale(trained.meta.grid, options.size),
-        )
-        .sample(&region);
+    let vols = conditioning_volumes(trained, options, &region);
     let cond = (!spec.conditioning.is_empty())
         .then(|| norm.cond_tensor(&spec.conditioning, &vols, device));
     let inputs = StepInputs::new(cond, region.positions(device), spec.perception);
@@ -127,15 +134,7 @@ pub fn synthesise_at(
     let norm = &trained.meta.normalisation;
     let region = Region::whole(options.size);
     let (cond, colour) = {
-        let vols = trained
-            .fit
-            .conditioning()
-            .for_model(
-                spec,
-                options.seed,
-                cell_scale(trained.meta.grid, options.size),
-            )
-            .sample(&region);
+        let vols = conditioning_volumes(trained, options, &region);
         (
             norm.cond_data(&spec.conditioning, &vols),
             norm.colour_data(&vols),
