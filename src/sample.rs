@@ -265,6 +265,14 @@ fn find_markers(img: &Image2, face: Face) -> Vec<KnotMarker> {
     markers
 }
 
+/// The faces of an optional `--faces` list: the parsed list, or all six when none is given.
+pub fn faces_or_all(list: Option<&str>) -> Result<Vec<Face>> {
+    match list {
+        Some(list) => parse_faces(list),
+        None => Ok(Face::ALL.to_vec()),
+    }
+}
+
 /// Parses a face list such as "A,B,C,D,E" (`--faces`).
 pub fn parse_faces(list: &str) -> Result<Vec<Face>> {
     let mut faces = Vec::new();

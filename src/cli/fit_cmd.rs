@@ -9,7 +9,7 @@ use xylem::fit::run::total_steps;
 use xylem::fit::{Display, FitConfig, fit_sample, write_fit};
 use xylem::io::OutputDir;
 use xylem::rings::{RingSource, load_with_rings};
-use xylem::sample::{Needs, Sample, parse_faces};
+use xylem::sample::{Needs, Sample, faces_or_all};
 
 use super::json_out::{Summary, say};
 use super::progress::Progress;
@@ -53,14 +53,8 @@ pub struct FitArgs {
 }
 
 pub fn run(args: FitArgs) -> Result<()> {
-    let cfg = match &args.config {
-        Some(path) => FitConfig::load(path)?,
-        None => FitConfig::default(),
-    };
-    let faces = match &args.faces {
-        Some(list) => parse_faces(list)?,
-        None => Face::ALL.to_vec(),
-    };
+    let cfg = FitConfig::load_or_default(args.config.as_deref())?;
+    let faces = faces_or_all(args.faces.as_deref())?;
     let loaded = load_with_rings(&args.sample, &faces, args.rings, &cfg.localiser)?;
     say_predicted(&loaded.predicted);
     let sample = loaded.sample;

@@ -11,7 +11,7 @@ use xylem::fit::FitConfig;
 use xylem::io::{OutputDir, read_bytes, save_png, write_bytes_atomic};
 use xylem::rings::sheet::{RingsRow, rings_sheet};
 use xylem::rings::{Agreement, RingSource, agreement, load_with_rings};
-use xylem::sample::{Sample, parse_faces};
+use xylem::sample::{Sample, faces_or_all};
 
 use super::json_out::say;
 
@@ -46,14 +46,8 @@ pub struct RingsArgs {
 }
 
 pub fn run(args: RingsArgs) -> Result<()> {
-    let cfg = match &args.config {
-        Some(path) => FitConfig::load(path)?,
-        None => FitConfig::default(),
-    };
-    let faces = match &args.faces {
-        Some(list) => parse_faces(list)?,
-        None => Face::ALL.to_vec(),
-    };
+    let cfg = FitConfig::load_or_default(args.config.as_deref())?;
+    let faces = faces_or_all(args.faces.as_deref())?;
     let started = Instant::now();
     let loaded = load_with_rings(&args.sample, &faces, RingSource::Predict, &cfg.localiser)?;
     let seconds = started.elapsed().as_secs_f64();

@@ -22,7 +22,7 @@ use xylem::report::{
     comparison_sheet, default_title, write_report,
 };
 use xylem::rings::RingSource;
-use xylem::sample::parse_faces;
+use xylem::sample::faces_or_all;
 use xylem::slice::unfold_cross;
 use xylem::texture::SolidTexture;
 use xylem::volume::Volume;
@@ -113,10 +113,7 @@ pub struct RunArgs {
 }
 
 pub fn run(args: RunArgs) -> Result<()> {
-    let faces = match &args.faces {
-        Some(list) => parse_faces(list)?,
-        None => Face::ALL.to_vec(),
-    };
+    let faces = faces_or_all(args.faces.as_deref())?;
     let out = OutputDir::prepare(&args.out)?;
     let started = STAGES.iter().any(|d| out.path(d).exists());
     run_provenance(&args, &faces)?.check_or_record(&out.path(RUN_RECORD), started)?;

@@ -5,7 +5,6 @@ use std::path::PathBuf;
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use xylem::device::DeviceKind;
-use xylem::frame::Face;
 use xylem::io::{OutputDir, Provenance};
 use xylem::nca::TrainConfig;
 use xylem::nca::face_loss;
@@ -14,7 +13,7 @@ use xylem::nca::model_dir::ModelMeta;
 use xylem::nca::session::{TrainOptions, run_training, saved_config};
 use xylem::nca::targets::photo_mean;
 use xylem::nca::train::TrainData;
-use xylem::sample::{Needs, Sample, parse_faces};
+use xylem::sample::{Needs, Sample, faces_or_all};
 
 use super::json_out::{Summary, say};
 use super::progress::Progress;
@@ -110,10 +109,7 @@ pub fn run(args: TrainArgs) -> Result<()> {
         if args.fit.is_none() {
             bail!("--fit is required (a field config or fit file; see --help)");
         }
-        let faces = match &args.faces {
-            Some(list) => parse_faces(list)?,
-            None => Face::ALL.to_vec(),
-        };
+        let faces = faces_or_all(args.faces.as_deref())?;
         (
             TrainConfig::load(path)?,
             path.display().to_string(),

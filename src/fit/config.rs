@@ -252,6 +252,11 @@ impl FitConfig {
         load_checked(path, Self::validate)
     }
 
+    /// The config at `path`, or the built-in defaults when no file is given.
+    pub fn load_or_default(path: Option<&Path>) -> Result<Self> {
+        path.map_or_else(|| Ok(Self::default()), Self::load)
+    }
+
     /// Parses and validates TOML text (`origin` names it in errors).
     pub fn parse(text: &str, origin: &Path) -> Result<Self> {
         parse_checked(text, origin, Self::validate)
