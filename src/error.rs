@@ -44,6 +44,14 @@ pub enum XylemError {
     /// Something a numerical stage could not do (diverged, empty data, ...).
     #[error("{stage}: {message}")]
     Numeric { stage: String, message: String },
+
+    /// A step of a longer job failed; `what` says which step and on what (`fitting DIR`).
+    #[error("{what}: {source}")]
+    During {
+        what: String,
+        #[source]
+        source: Box<XylemError>,
+    },
 }
 
 impl XylemError {
@@ -72,6 +80,14 @@ impl XylemError {
         Self::Sample {
             path: path.into(),
             message: message.into(),
+        }
+    }
+
+    /// This error, said to have happened during `what` (the job's step and its input).
+    pub fn during(self, what: impl Into<String>) -> Self {
+        Self::During {
+            what: what.into(),
+            source: Box::new(self),
         }
     }
 

@@ -50,6 +50,25 @@
 //! # Ok::<(), xylem::XylemError>(())
 //! ```
 //!
+//! The whole pipeline, as `xylem demo` runs it (a synthetic sample, fit, NCA training,
+//! synthesis, sheet, renders, metrics, report, in one resumable run folder):
+//!
+//! ```no_run
+//! use xylem::pipeline::{DemoOptions, Quiet, RunLayout, demo};
+//!
+//! let options = DemoOptions {
+//!     species: "chestnut".into(),
+//!     size: 256,
+//!     nca_config: None, // the built-in quick config
+//!     synth_steps: 90,
+//!     device: Default::default(), // burn's flex CPU backend
+//!     engine: Default::default(), // the fused CPU kernels
+//! };
+//! let outcome = demo(&RunLayout::new("out/demo"), &options, &Quiet)?;
+//! print!("{}", outcome.metrics.to_csv());
+//! # Ok::<(), xylem::XylemError>(())
+//! ```
+//!
 //! The modules follow the pipeline (see `docs/DESIGN.md` and the README's picture):
 //!
 //! - [`frame`]: the fixed cube conventions: faces A-F, pixel and voxel centres, the unfolded
@@ -77,6 +96,9 @@
 //! - [`procedural`]: the procedural wood model (rings, pores, rays, fibres, knots, figure,
 //!   burl) and synthetic sample cubes made from species presets.
 //! - [`nca`]: the 3D neural cellular automaton: model, training on the faces, synthesis.
+//! - [`run_folder`]: the names inside a run folder, shared by the pipeline and the report.
+//! - [`pipeline`]: the stages of `xylem run` (fit, train, synth, sheet, renders, metrics,
+//!   report) and the demo as library functions on a run folder, resumable.
 
 pub mod config;
 pub mod device;
@@ -92,12 +114,14 @@ pub mod memory;
 pub mod metrics;
 pub mod nca;
 pub mod outputs;
+pub mod pipeline;
 pub mod presets;
 pub mod procedural;
 pub mod render;
 pub mod report;
 pub mod rings;
 pub mod rng;
+pub mod run_folder;
 pub mod sample;
 pub mod slice;
 pub mod texture;

@@ -86,3 +86,30 @@ pub fn load_species_preset(name: &str) -> crate::Result<SpeciesConfig> {
     let text = species_preset(name).ok_or_else(|| unknown("species", name, SPECIES_PRESETS))?;
     SpeciesConfig::parse(text, Path::new(&format!("<species preset {name}>")))
 }
+
+/// The built-in NCA training configs: `configs/nca/quick.toml` (the demo) and
+/// `configs/nca/quality.toml` (the default of `xylem run`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NcaPreset {
+    /// 128^3 grid, 1500 iterations: the demo.
+    Quick,
+    /// Native 256 px / 256^3, 3000 iterations.
+    Quality,
+}
+
+impl NcaPreset {
+    pub fn name(self) -> &'static str {
+        match self {
+            NcaPreset::Quick => "quick",
+            NcaPreset::Quality => "quality",
+        }
+    }
+
+    /// The config's TOML text.
+    pub fn text(self) -> &'static str {
+        match self {
+            NcaPreset::Quick => include_str!("../configs/nca/quick.toml"),
+            NcaPreset::Quality => include_str!("../configs/nca/quality.toml"),
+        }
+    }
+}

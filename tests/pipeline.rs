@@ -1,14 +1,45 @@
-//! `xylem demo` and `xylem run` end to end with a tiny NCA: every stage writes its outputs,
-//! the metrics table compares the right references, a re-run skips finished stages, and a
-//! leave-one-face-out run on real data reports the held-out face, and a folder of photos alone
-//! runs with predicted ring images.
+//! The pipeline end to end with a tiny NCA, through the library (`xylem::pipeline`): every
+//! stage of the demo writes its outputs, the metrics table compares the right references, a
+//! re-run skips finished stages, and a folder of photos alone runs with predicted ring images;
+//! through the binary: a leave-one-face-out `xylem run --json` on real data reports the
+//! held-out face.
 
+use std::cell::RefCell;
 use std::path::{Path, PathBuf};
 
 mod common;
-use common::{mokume_dir, run_ok_said, scratch, xylem};
+use common::{mokume_dir, scratch, xylem};
 
+use xylem::Face;
+use xylem::device::DeviceKind;
+use xylem::nca::config::Engine;
+use xylem::pipeline::{
+    Counter, DemoOptions, NcaSource, Quiet, Reporter, RunLayout, RunOptions, demo, run,
+};
 use xylem::report::MetricsTable;
+use xylem::rings::RingSource;
+
+/// A reporter that keeps every line said or noted, one per line.
+#[derive(Default)]
+struct Recorder(RefCell<String>);
+
+impl Recorder {
+    fn take(&self) -> String {
+        self.0.take()
+    }
+}
+
+impl Reporter for Recorder {
+    fn counter(&self, _: &str, _: u64) -> Box<dyn Counter> {
+        Box::new(Quiet)
+    }
+    fn say(&self, line: &str) {
+        self.0.borrow_mut().push_str(&format!("{line}\n"));
+    }
+    fn note(&self, line: &str) {
+        self.say(line);
+    }
+}
 
 /// A 16^3 NCA trained for 3 iterations on whole faces (the smallest the style loss accepts).
 fn tiny_nca(dir: &Path) -> PathBuf {
@@ -40,23 +71,30 @@ fn metric_rows(run: &Path) -> Vec<(String, String)> {
         .collect()
 }
 
+/// The demo on a 96 px chestnut sample with the tiny NCA, unrolled `synth_steps` steps.
+fn tiny_demo(nca: &Path, synth_steps: usize) -> DemoOptions {
+    DemoOptions {
+        species: "chestnut".into(),
+        size: 96,
+        nca_config: Some(nca.to_path_buf()),
+        synth_steps,
+        device: DeviceKind::Flex,
+        engine: Engine::Fused,
+    }
+}
+
 #[test]
 fn demo_runs_every_stage_and_resumes_by_skipping_finished_ones() {
     let dir = scratch("demo");
     let nca = tiny_nca(&dir);
-    let run = dir.join("run");
-    let demo = || {
-        let mut cmd = xylem();
-        cmd.args(["demo", "--size", "96", "--synth-steps", "2", "--nca-config"])
-            .arg(&nca)
-            .arg("--out")
-            .arg(&run);
-        cmd
-    };
-    let log = run_ok_said(&mut demo());
+    let layout = RunLayout::new(dir.join("run"));
+    let run_dir = layout.root();
+    let log = Recorder::default();
+    demo(&layout, &tiny_demo(&nca, 2), &log).unwrap();
+    let said = log.take();
     assert!(
-        log.contains("== fit\n") && log.contains("== train\n"),
-        "{log}"
+        said.contains("== fit\n") && said.contains("== train\n"),
+        "{said}"
     );
     for f in [
         "sample/truth/cut1.png",
@@ -70,10 +108,10 @@ fn demo_runs_every_stage_and_resumes_by_skipping_finished_ones() {
         "renders/turntable_nca.png",
         "report/index.html",
     ] {
-        assert!(run.join(f).is_file(), "{f} missing");
+        assert!(run_dir.join(f).is_file(), "{f} missing");
     }
     // A synthetic sample is judged on its hidden cuts; the procedural model is its truth.
-    let rows = metric_rows(&run);
+    let rows = metric_rows(run_dir);
     for method in ["nca", "base colour"] {
         for cut in ["cut1", "cut2"] {
             assert!(
@@ -83,58 +121,48 @@ fn demo_runs_every_stage_and_resumes_by_skipping_finished_ones() {
         }
     }
     assert!(rows.iter().all(|(m, _)| m != "procedural"), "{rows:?}");
-    let sheet = image::open(run.join("sheet.png")).unwrap();
+    let sheet = image::open(layout.sheet()).unwrap();
     assert!(sheet.width() > 5 * 160 && sheet.height() > 8 * 160);
-    let html = std::fs::read_to_string(run.join("report/index.html")).unwrap();
+    let html = std::fs::read_to_string(layout.report_page()).unwrap();
     assert!(
         html.contains("../sheet.png") && html.contains("<table"),
         "{html}"
     );
 
-    let before = std::fs::metadata(run.join("train/model.bpk"))
-        .unwrap()
-        .modified()
-        .unwrap();
-    let log = run_ok_said(&mut demo());
+    let modified = || {
+        std::fs::metadata(run_dir.join("train/model.bpk"))
+            .unwrap()
+            .modified()
+            .unwrap()
+    };
+    let before = modified();
+    demo(&layout, &tiny_demo(&nca, 2), &log).unwrap();
+    let said = log.take();
     for stage in ["fit", "train", "synth"] {
         assert!(
-            log.contains(&format!("== {stage} (done, skipped)")),
-            "{stage}: {log}"
+            said.contains(&format!("== {stage} (done, skipped)")),
+            "{stage}: {said}"
         );
     }
-    let after = std::fs::metadata(run.join("train/model.bpk"))
-        .unwrap()
-        .modified()
-        .unwrap();
-    assert_eq!(before, after, "the trained model was rewritten");
+    assert_eq!(before, modified(), "the trained model was rewritten");
 
     // A stage without its completion marker (killed after its first file) is redone.
-    std::fs::remove_file(run.join("synth/.done")).unwrap();
-    let log = run_ok_said(&mut demo());
-    assert!(log.contains("== synth\n"), "{log}");
-    assert!(run.join("synth/.done").is_file());
+    std::fs::remove_file(run_dir.join("synth/.done")).unwrap();
+    demo(&layout, &tiny_demo(&nca, 2), &log).unwrap();
+    let said = log.take();
+    assert!(said.contains("== synth\n"), "{said}");
+    assert!(run_dir.join("synth/.done").is_file());
 
     // Other options on the same folder are refused, naming what changed, and nothing
     // is rewritten.
-    let out = xylem()
-        .args(["demo", "--size", "96", "--synth-steps", "3", "--nca-config"])
-        .arg(&nca)
-        .arg("--out")
-        .arg(&run)
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success(), "{err}");
+    let err = demo(&layout, &tiny_demo(&nca, 3), &log)
+        .unwrap_err()
+        .to_string();
     assert!(
         err.contains("run.toml") && err.contains("synth_steps: was 2, now 3"),
         "{err}"
     );
-    let again = std::fs::metadata(run.join("train/model.bpk"))
-        .unwrap()
-        .modified()
-        .unwrap();
-    assert_eq!(before, again, "the trained model was rewritten");
-    std::fs::remove_dir_all(&dir).unwrap();
+    assert_eq!(before, modified(), "the trained model was rewritten");
 }
 
 #[test]
@@ -195,7 +223,6 @@ fn run_on_real_data_reports_the_held_out_face() {
         3,
         "only the held-out face is a fair reference: {rows:?}"
     );
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// Issue 13: a folder of the six photos of H11 alone (and its knot markers) runs through the
@@ -206,34 +233,32 @@ fn run_on_photos_alone_predicts_the_ring_images() {
     let dir = scratch("run-h11-photos");
     let photos = common::photos_only(&data.join("H11"), "run-h11-photos-only");
     let nca = tiny_nca(&dir);
-    let run = dir.join("run");
-    let said = run_ok_said(
-        xylem()
-            .args([
-                "run",
-                "--synth-steps",
-                "2",
-                "--image-size",
-                "64",
-                "--sample",
-            ])
-            .arg(&photos)
-            .arg("--nca-config")
-            .arg(&nca)
-            .arg("--out")
-            .arg(&run),
-    );
+    let layout = RunLayout::new(dir.join("run"));
+    let options = RunOptions {
+        sample: photos.to_path_buf(),
+        faces: Face::ALL.to_vec(),
+        nca: NcaSource::File(nca),
+        fit_config: None,
+        rings: RingSource::Auto,
+        species: "chestnut".into(),
+        synth_steps: 2,
+        image_size: 64,
+        device: DeviceKind::Flex,
+        engine: Engine::Fused,
+    };
+    let log = Recorder::default();
+    run(&layout, &options, &log).unwrap();
+    let said = log.take();
     assert!(
         said.contains("ring images predicted from the photos for faces A,B,C,D,E,F"),
         "{said}"
     );
     for file in [
-        "fit/fit.toml",
-        "sheet.png",
-        "metrics.csv",
-        "report/index.html",
+        layout.fit_file(),
+        layout.sheet(),
+        layout.metrics(),
+        layout.report_page(),
     ] {
-        assert!(run.join(file).is_file(), "{file}");
+        assert!(file.is_file(), "{}", file.display());
     }
-    std::fs::remove_dir_all(&dir).unwrap();
 }

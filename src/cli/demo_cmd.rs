@@ -1,20 +1,17 @@
-//! `xylem demo`: the built-in default job, needing no external data: a synthetic sample cube
-//! from a species preset (with its hidden truth), then the whole pipeline on it (`xylem run`):
-//! fit, NCA training with the quick config, synthesis, the sheet of faces and cuts beside
-//! the truth, renders, metrics and the HTML report.
+//! `xylem demo`: the built-in default job, needing no external data (`xylem::pipeline::demo`):
+//! a synthetic sample cube from a species preset (with its hidden truth), then the whole
+//! pipeline on it: fit, NCA training with the quick config, synthesis, the sheet of faces and
+//! cuts beside the truth, renders, metrics and the HTML report.
 
 use std::path::PathBuf;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::Args;
 use xylem::device::DeviceKind;
-use xylem::io::OutputDir;
 use xylem::nca::config::Engine;
-use xylem::presets::load_species_preset;
-use xylem::procedural::write_sample;
-use xylem::rings::RingSource;
+use xylem::pipeline::{DemoOptions, RunLayout, demo};
 
-use super::run_cmd::{self, NcaPreset, RunArgs};
+use super::progress::CliReporter;
 
 /// Run the built-in demo: synthetic sample -> fit -> NCA (quick) -> synthesis -> sheet,
 /// renders, metrics and report, with no external data.
@@ -53,32 +50,14 @@ pub struct DemoArgs {
 }
 
 pub fn run(args: DemoArgs) -> Result<()> {
-    let out = OutputDir::prepare(&args.out)?;
-    let sample = out.path("sample");
-    if !sample.join("truth/species.toml").is_file() {
-        eprintln!("== sample ({})", args.species);
-        let cfg = load_species_preset(&args.species)?;
-        let origin = format!("built-in species preset {}", args.species);
-        write_sample(
-            &cfg,
-            &origin,
-            args.size as usize,
-            &OutputDir::prepare(&sample)?,
-        )
-        .with_context(|| format!("writing the synthetic sample of {origin}"))?;
-    }
-    run_cmd::run(RunArgs {
-        sample,
-        out: args.out,
-        faces: None,
-        nca_config: args.nca_config,
-        nca_preset: NcaPreset::Quick,
-        fit_config: None,
-        rings: RingSource::Auto,
+    let options = DemoOptions {
         species: args.species,
+        size: args.size as usize,
+        nca_config: args.nca_config,
         synth_steps: args.synth_steps,
-        image_size: 160,
         device: args.device,
         engine: args.engine,
-    })
+    };
+    demo(&RunLayout::new(&args.out), &options, &CliReporter)?;
+    Ok(())
 }

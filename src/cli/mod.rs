@@ -17,7 +17,6 @@ mod render_cmd;
 mod report_cmd;
 mod rings_cmd;
 mod run_cmd;
-mod run_metrics;
 mod sample_cmd;
 mod slice_cmd;
 mod synth_cmd;

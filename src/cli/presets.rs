@@ -69,3 +69,21 @@ pub fn species_name(name: &str) -> std::result::Result<String, String> {
         ))
     }
 }
+
+/// `--nca-preset`: the built-in NCA configs, as clap lists them.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NcaPresetArg {
+    /// 128^3 grid, 1500 iterations: the demo, about 8 minutes in all.
+    Quick,
+    /// Native 256 px / 256^3, 3000 iterations: about 21 minutes for CN03 on 2 cores.
+    Quality,
+}
+
+impl From<NcaPresetArg> for xylem::presets::NcaPreset {
+    fn from(arg: NcaPresetArg) -> Self {
+        match arg {
+            NcaPresetArg::Quick => Self::Quick,
+            NcaPresetArg::Quality => Self::Quality,
+        }
+    }
+}

@@ -10,6 +10,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressStyle};
+use xylem::pipeline::{Counter, Reporter};
+
+use super::json_out::say;
 
 static QUIET: AtomicBool = AtomicBool::new(false);
 
@@ -132,6 +135,40 @@ impl Progress {
             }
             Display::Quiet => {}
         }
+    }
+}
+
+impl Counter for Progress {
+    fn set_position(&self, position: u64) {
+        Progress::set_position(self, position);
+    }
+    fn position(&self) -> u64 {
+        Progress::position(self)
+    }
+    fn set_message(&self, message: String) {
+        Progress::set_message(self, message);
+    }
+    fn reset_eta(&self) {
+        Progress::reset_eta(self);
+    }
+    fn finish(&self) {
+        Progress::finish(self);
+    }
+}
+
+/// The library's reporter on the command line: progress displays as above, result lines on
+/// stdout (stderr under `--json`), notes on stderr.
+pub struct CliReporter;
+
+impl Reporter for CliReporter {
+    fn counter(&self, name: &str, total: u64) -> Box<dyn Counter> {
+        Box::new(Progress::new(name, total))
+    }
+    fn say(&self, line: &str) {
+        say(line);
+    }
+    fn note(&self, line: &str) {
+        eprintln!("{line}");
     }
 }
 

@@ -4,17 +4,11 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::Args;
-use xylem::config::write_config_copy;
 use xylem::device::DeviceKind;
-use xylem::io::OutputDir;
-use xylem::io::npy::write_volume;
 use xylem::nca::config::Engine;
-use xylem::nca::model_dir::TrainedModel;
-use xylem::nca::synth::{SynthOptions, ValueRange, synthesise};
-use xylem::outputs::SliceSet;
+use xylem::pipeline::{SynthStageOptions, synth_into};
 
-use super::json_out::say;
-use super::progress::Progress;
+use super::progress::CliReporter;
 
 /// Synthesise a solid texture with a trained NCA: the volume, its faces, cuts and cross.
 #[derive(Args, Debug)]
@@ -54,33 +48,13 @@ pub struct SynthArgs {
 }
 
 pub fn run(args: SynthArgs) -> Result<()> {
-    xylem::nca::denormals::flush_denormals_to_zero();
-    let device = args.device.device();
-    let trained = TrainedModel::load(&args.model, &device)?;
-    let out = OutputDir::prepare(&args.out)?;
-    let size = args.size.map_or(trained.meta.grid, |s| s as usize);
-    let options = SynthOptions {
-        size,
+    let options = SynthStageOptions {
+        size: args.size.map(|s| s as usize),
         steps: args.steps,
-        seed: args.seed.unwrap_or(trained.meta.seed),
-        slab_voxels: 1 << 18,
+        seed: args.seed,
+        device: args.device,
         engine: args.engine,
     };
-    let bar = Progress::new("unroll", args.steps as u64);
-    let volume = synthesise(&trained, &options, &device, |s| bar.set_position(s as u64))?;
-    bar.finish();
-    let range = ValueRange::of(&volume.data);
-    eprintln!("colour values in {range} (not clamped)");
-    write_volume(&out.path("volume.npy"), &volume)?;
-    SliceSet::render(&volume, size).write(&out, "")?;
-    write_config_copy(
-        &out.path("model.toml"),
-        &trained.meta,
-        &args.model.display().to_string(),
-    )?;
-    say(&format!(
-        "wrote {}/volume.npy and its faces, cuts and unfolded.png",
-        args.out.display()
-    ));
+    synth_into(&args.model, &options, &args.out, &CliReporter)?;
     Ok(())
 }

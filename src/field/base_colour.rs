@@ -12,15 +12,13 @@
 //! bar takes over, blended over `knot_blend` years of (stem time - knot time) so that the knot
 //! boundary is soft rather than a seam.
 
-use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
-use super::growth::{FieldSample, GrowthField};
+use super::field_sample::FieldSample;
 use super::smin::smoothstep;
 use crate::config::Checker;
 use crate::error::Result;
 use crate::frame::Face;
-use crate::texture::SolidTexture;
 
 /// Most bar nodes accepted.
 const MAX_BAR_NODES: usize = 4096;
@@ -185,48 +183,5 @@ impl BaseColour {
         let offset = face.map_or([0.0; 3], |f| self.face_offsets[f.index()]);
         let lit = std::array::from_fn(|c| rgb[c] + offset[c]);
         self.white_balance.to_real(lit, face)
-    }
-}
-
-/// Which colours a [`BaseColourTexture`] returns.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ColourSpace {
-    /// White-balanced, no face offsets: what the NCA is conditioned on.
-    WhiteBalanced,
-    /// Real colour as seen on a face (its offset and white balance) or, with `None`, in a cut
-    /// or volume.
-    Real(Option<Face>),
-}
-
-/// The base colour as a solid texture: field + bars -> RGB (3 channels).
-#[derive(Clone, Debug)]
-pub struct BaseColourTexture {
-    pub field: GrowthField,
-    pub colour: BaseColour,
-    pub space: ColourSpace,
-}
-
-impl BaseColourTexture {
-    pub fn new(field: GrowthField, colour: BaseColour, space: ColourSpace) -> Self {
-        Self {
-            field,
-            colour,
-            space,
-        }
-    }
-}
-
-impl SolidTexture for BaseColourTexture {
-    fn channels(&self) -> usize {
-        3
-    }
-
-    fn eval(&self, p: Vec3, out: &mut [f32]) {
-        let rgb = self.colour.colour(&self.field.sample(p));
-        let rgb = match self.space {
-            ColourSpace::WhiteBalanced => rgb,
-            ColourSpace::Real(face) => self.colour.to_real(rgb, face),
-        };
-        out.copy_from_slice(&rgb);
     }
 }

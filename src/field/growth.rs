@@ -15,34 +15,13 @@ use glam::Vec3;
 
 use super::config::FieldConfig;
 use super::distortion::random_rates;
+use super::field_sample::{FieldSample, Strand};
 use super::knot::{Knot, KnotSample};
 use super::pith::PithAxis;
 use super::rate_grid::RateGrid;
 use super::ring_warp::RingWarp;
 use super::smin::smoothstep;
 use crate::texture::SolidTexture;
-
-/// Which strand's own time field is smallest at a point.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Strand {
-    Stem,
-    Knot(usize),
-}
-
-/// Everything the field knows about a point, for colouring.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct FieldSample {
-    /// G (years).
-    pub g: f32,
-    /// Stem time t_s (years), before knots.
-    pub stem: f32,
-    /// The dominant strand.
-    pub strand: Strand,
-    /// Smallest knot time (years; infinite without knots).
-    pub knot_time: f32,
-    /// The point lies in a knot (dominated by it) and was laid down after that knot died.
-    pub in_dead_knot: bool,
-}
 
 #[derive(Clone, Debug)]
 pub struct GrowthField {

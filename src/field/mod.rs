@@ -9,12 +9,15 @@
 //! - [`growth`]: the combined field G and the dominant strand.
 //! - [`arl`]: the ring localisation image I(G).
 //! - [`ring_warp`]: fitted ring positions mapped onto integer years.
-//! - [`base_colour`]: a fitted colour bar over G and its solid texture.
+//! - [`field_sample`]: what the field knows about one point.
+//! - [`base_colour`]: a fitted colour bar over G; [`base_colour_texture`]: its solid texture.
 
 pub mod arl;
 pub mod base_colour;
+pub mod base_colour_texture;
 pub mod config;
 pub mod distortion;
+pub mod field_sample;
 pub mod growth;
 pub mod knot;
 pub mod pith;
@@ -23,11 +26,13 @@ pub mod ring_warp;
 pub mod smin;
 
 pub use arl::{RingImage, ring_intensity};
-pub use base_colour::{BaseColour, BaseColourTexture, ColourSpace, WhiteBalance};
+pub use base_colour::{BaseColour, WhiteBalance};
+pub use base_colour_texture::{BaseColourTexture, ColourSpace};
 pub use config::{
     DistortionConfig, FieldConfig, GrowthConfig, KnotConfig, PithConfig, RingsConfig,
 };
-pub use growth::{FieldSample, GrowthField, Strand, knot_union};
+pub use field_sample::{FieldSample, Strand};
+pub use growth::{GrowthField, knot_union};
 pub use knot::{Knot, KnotSample};
 pub use pith::{Cylindrical, PithAxis};
 pub use rate_grid::RateGrid;

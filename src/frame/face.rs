@@ -15,6 +15,11 @@ pub const HALF: f32 = 0.5;
 /// Centimetres per cube unit (the Mokume cubes are 4.0 cm).
 pub const CM_PER_UNIT: f32 = 4.0;
 
+/// Millimetres to cube units (1 unit = `CM_PER_UNIT` cm).
+pub fn mm(value: f32) -> f32 {
+    value / (10.0 * CM_PER_UNIT)
+}
+
 /// One face of the sample cube.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 pub enum Face {

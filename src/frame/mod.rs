@@ -8,5 +8,5 @@ pub mod plane;
 
 pub use cross::{CROSS_TILES, cross_tile};
 pub use edges::{FaceImageTransform, cube_edges, edge_agreement};
-pub use face::{CM_PER_UNIT, Face, HALF, pixel_centre, voxel_centre};
+pub use face::{CM_PER_UNIT, Face, HALF, mm, pixel_centre, voxel_centre};
 pub use plane::{Plane, PlaneSpec};

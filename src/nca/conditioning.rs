@@ -27,39 +27,13 @@ use glam::Vec3;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use super::cond_channel::CondChannel;
 use super::config::ModelSpec;
 use super::grain_noise::GrainNoise;
 use super::region::Region;
 use super::tensors::tensor_from;
 use crate::texture::SolidTexture;
 use crate::volume::Volume;
-
-/// One kind of conditioning input.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum CondChannel {
-    /// Lightness of white-balanced B, minus 0.5 (1 channel).
-    GreyB,
-    /// White-balanced B minus 0.5 (3 channels).
-    RgbB,
-    /// G normalised to [0, 1] over the cube, minus 0.5 (1 channel).
-    G,
-    /// 0.5 cos(2 pi G), 0.5 sin(2 pi G) (2 channels).
-    RingPhase,
-    /// Half of the grain-aligned noise (`grain_noise.rs`, 1 channel): tubes along the fibres.
-    GrainNoise,
-}
-
-impl CondChannel {
-    /// Number of tensor channels.
-    pub fn width(self) -> usize {
-        match self {
-            CondChannel::GreyB | CondChannel::G | CondChannel::GrainNoise => 1,
-            CondChannel::RgbB => 3,
-            CondChannel::RingPhase => 2,
-        }
-    }
-}
 
 /// B and G of a sample as solid textures.
 #[derive(Clone)]

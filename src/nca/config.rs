@@ -9,11 +9,10 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use super::conditioning::CondChannel;
+use super::cond_channel::CondChannel;
 use super::grain_noise::GrainNoiseSpec;
-use super::perception::PerceptionImpl;
+use super::perception::{FILTERS, POSITION_CHANNELS, PerceptionImpl};
 use super::placement::Placement;
-use super::style_face_loss::FaceLossKind;
 use crate::config::{Checker, load_toml, parse_toml};
 use crate::error::Result;
 use crate::loss::{GuidedConfig, LossConfig};
@@ -301,11 +300,6 @@ impl Default for ModelSpec {
     }
 }
 
-/// Number of fixed filters per perceived channel (identity, Sobel x, y, z, Laplacian).
-pub const FILTERS: usize = 5;
-/// Position channels appended to the perception (x, y, z in [-1, 1]).
-pub const POSITION_CHANNELS: usize = 3;
-
 impl ModelSpec {
     /// Conditioning channels fed through perception.
     pub fn cond_channels(&self) -> usize {
@@ -488,4 +482,18 @@ impl TrainConfig {
             .count();
         self.schedule.learning_rate * self.schedule.decay_factor.powi(decays as i32)
     }
+}
+
+/// Which loss compares generated faces with the photos.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FaceLossKind {
+    /// The VGG-free style loss (`[loss.style]`, default `configs/loss/default.toml`).
+    #[default]
+    Style,
+    /// Colour and gradient moments: cheap, blind to pores and rings (tests, ablation).
+    Moments,
+    /// The guided local loss (`[loss.guided]`): each patch against the photo around it,
+    /// with the ring phase as a guide.
+    Guided,
 }

@@ -5,7 +5,8 @@
 //! in microcode, 10-100x slower: a 128^3-grid iteration with 32^3 crops went from 4.2 s at 16
 //! steps to 7.7 s at 18 steps; with denormals flushed, 4.5 s at 18 steps and the same loss to
 //! four digits. Flushing numbers below 1.2e-38 to zero cannot change anything the NCA computes
-//! at a visible scale, and it is deterministic, so `xylem train` and `xylem synth` turn it on.
+//! at a visible scale, and it is deterministic, so training (`session::run_training`) and
+//! synthesis (`synth::synthesise`) turn it on themselves.
 //!
 //! It is a per-thread CPU flag (MXCSR FTZ and DAZ bits): this sets it on the calling thread
 //! and on every thread of rayon's global pool, which is where burn's flex and ndarray

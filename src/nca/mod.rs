@@ -39,6 +39,7 @@
 //! - [`plot`]: the loss curve as an image.
 
 pub mod checkpoint;
+pub mod cond_channel;
 pub mod conditioning;
 pub mod config;
 pub mod denormals;
@@ -66,10 +67,11 @@ pub mod tensors;
 pub mod train;
 pub mod unroll;
 
-pub use conditioning::{CondChannel, Conditioning};
-pub use config::{ModelSpec, TrainConfig};
+pub use cond_channel::CondChannel;
+pub use conditioning::Conditioning;
+pub use config::{FaceLossKind, ModelSpec, TrainConfig};
 pub use faces::{FacePatch, face_patches};
 pub use loss::{FaceLoss, MomentLoss};
 pub use model::Nca;
 pub use region::Region;
-pub use style_face_loss::{FaceLossKind, StyleFaceLoss, face_loss};
+pub use style_face_loss::{StyleFaceLoss, face_loss};

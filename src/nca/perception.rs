@@ -23,8 +23,12 @@ use burn::tensor::ops::{ConvOptions, PadMode};
 use burn::tensor::{Device, Tensor};
 use serde::{Deserialize, Serialize};
 
-use super::config::FILTERS;
 use super::tensors::tensor_from;
+
+/// Number of fixed filters per perceived channel (identity, Sobel x, y, z, Laplacian).
+pub const FILTERS: usize = 5;
+/// Position channels appended to the perception (x, y, z in [-1, 1]).
+pub const POSITION_CHANNELS: usize = 3;
 
 /// How the filters are computed.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]

@@ -45,6 +45,8 @@ pub struct TrainOutcome {
 }
 
 /// Trains into `out`, calling `on_iteration` after each iteration (for progress display).
+/// Denormal floats are flushed to zero from here on in this process (see
+/// [`flush_denormals_to_zero`](super::denormals::flush_denormals_to_zero)).
 #[allow(clippy::too_many_arguments)]
 pub fn run_training(
     out: &OutputDir,
@@ -57,6 +59,7 @@ pub fn run_training(
     on_iteration: &mut dyn FnMut(&LossRow),
 ) -> Result<TrainOutcome> {
     check_data(data)?;
+    super::denormals::flush_denormals_to_zero();
     let root = out.root();
     let mut trainer = Trainer::new(config, data, kind)?;
     let meta = |iterations, weights_hash| ModelMeta {

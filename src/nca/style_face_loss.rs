@@ -8,9 +8,8 @@
 //! asks for it.
 
 use burn::tensor::{Device, Tensor};
-use serde::{Deserialize, Serialize};
 
-use super::config::TrainConfig;
+use super::config::{FaceLossKind, TrainConfig};
 use super::faces::FacePatch;
 use super::guided_face_loss::GuidedFaceLoss;
 use super::loss::{FaceLoss, MomentLoss, no_target_loss};
@@ -18,20 +17,6 @@ use super::train::TrainData;
 use crate::error::{Result, XylemError};
 use crate::image2::Image2;
 use crate::loss::{StyleLoss, StyleTargets};
-
-/// Which loss compares generated faces with the photos.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum FaceLossKind {
-    /// The VGG-free style loss (`[loss.style]`, default `configs/loss/default.toml`).
-    #[default]
-    Style,
-    /// Colour and gradient moments: cheap, blind to pores and rings (tests, ablation).
-    Moments,
-    /// The guided local loss (`[loss.guided]`): each patch against the photo around it,
-    /// with the ring phase as a guide.
-    Guided,
-}
 
 /// The face loss a training config asks for, with targets `[Option<Image2>; 6]` in file
 /// order (`None`: face not trained on). Fails, naming the config key, when the loss cannot

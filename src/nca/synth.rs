@@ -64,12 +64,15 @@ fn conditioning_volumes(
 }
 
 /// Unrolls `trained` into an RGB volume (photo colours), calling `progress(step)`.
+/// Denormal floats are flushed to zero from here on in this process (see
+/// [`flush_denormals_to_zero`](super::denormals::flush_denormals_to_zero)).
 pub fn synthesise(
     trained: &TrainedModel,
     options: &SynthOptions,
     device: &Device,
     progress: impl FnMut(usize),
 ) -> Result<Volume> {
+    super::denormals::flush_denormals_to_zero();
     if options.engine == Engine::Fused {
         return synthesise_fused(trained, options, progress);
     }

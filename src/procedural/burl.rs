@@ -21,7 +21,7 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use super::cells::wyvill;
-use super::config::{check_colour, check_sizes, mm};
+use super::checks::{check_colour, check_sizes};
 use super::noise::{fbm3, vector_fbm3};
 use super::tree::radial_frame;
 use crate::config::Checker;
@@ -29,6 +29,7 @@ use crate::error::Result;
 use crate::field::PithAxis;
 use crate::field::smin::smoothstep;
 use crate::frame::HALF;
+use crate::frame::mm;
 use crate::rng::{Rng, mix64};
 
 /// Most buds a burl may place (bounds memory and construction time).

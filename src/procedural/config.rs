@@ -24,7 +24,6 @@ use super::rings::RingConfig;
 use crate::config::{Checker, load_toml, parse_toml};
 use crate::error::Result;
 use crate::field::{FieldConfig, GrowthConfig, KnotConfig, PithConfig};
-use crate::frame::CM_PER_UNIT;
 
 /// Most ray layers a species may have (each costs one cell lookup per point).
 pub const MAX_RAY_LAYERS: usize = 4;
@@ -120,60 +119,5 @@ impl SpeciesConfig {
             b.validate(&check.nested("burl"))?;
         }
         Ok(())
-    }
-}
-
-/// Millimetres to cube units (1 unit = `CM_PER_UNIT` cm).
-pub fn mm(value: f32) -> f32 {
-    value / (10.0 * CM_PER_UNIT)
-}
-
-/// `[low, high]` with lo <= low < high <= hi.
-pub(crate) fn check_interval(
-    check: &Checker,
-    key: &str,
-    v: [f32; 2],
-    lo: f32,
-    hi: f32,
-    meaning: &str,
-) -> Result<()> {
-    let [a, b] = v;
-    if a.is_finite() && b.is_finite() && lo <= a && a < b && b <= hi {
-        Ok(())
-    } else {
-        Err(check.error(
-            key,
-            format!("= [{a}, {b}]: expected [low, high] {meaning} with {lo} <= low < high <= {hi}"),
-        ))
-    }
-}
-
-/// A display-referred colour: three values in [0, 1].
-pub(crate) fn check_colour(check: &Checker, key: &str, c: [f32; 3]) -> Result<()> {
-    if c.iter().all(|v| v.is_finite() && (0.0..=1.0).contains(v)) {
-        Ok(())
-    } else {
-        Err(check.error(
-            key,
-            format!("= {c:?}: expected a colour [r, g, b] with values in [0, 1]"),
-        ))
-    }
-}
-
-/// Sizes in mm: every component finite, > 0 and at most `hi`.
-pub(crate) fn check_sizes<const N: usize>(
-    check: &Checker,
-    key: &str,
-    v: [f32; N],
-    hi: f32,
-    meaning: &str,
-) -> Result<()> {
-    if v.iter().all(|x| x.is_finite() && *x > 0.0 && *x <= hi) {
-        Ok(())
-    } else {
-        Err(check.error(
-            key,
-            format!("= {v:?}: expected {meaning} in mm, each > 0 and <= {hi}"),
-        ))
     }
 }

@@ -7,11 +7,11 @@
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
-use super::config::mm;
 use super::noise::value3;
 use super::tree::TreePoint;
 use crate::config::Checker;
 use crate::error::Result;
+use crate::frame::mm;
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -11,12 +11,13 @@
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
-use super::config::{check_sizes, mm};
+use super::checks::check_sizes;
 use super::noise::fbm3;
 use super::tree::{TreePoint, radial_frame};
 use crate::config::Checker;
 use crate::error::Result;
 use crate::field::PithAxis;
+use crate::frame::mm;
 use crate::rng::mix64;
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -23,6 +23,7 @@
 
 pub mod burl;
 pub mod cells;
+mod checks;
 pub mod colour_map;
 pub mod config;
 pub mod direction;

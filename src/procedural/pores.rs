@@ -19,13 +19,14 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use super::cells::{CylinderCells, wyvill};
-use super::config::{check_colour, check_sizes, mm};
+use super::checks::{check_colour, check_sizes};
 use super::noise::{fract, hash_units3, value3};
 use super::tree::TreePoint;
 use super::years::YearTable;
 use crate::config::Checker;
 use crate::error::Result;
 use crate::field::smin::smoothstep;
+use crate::frame::mm;
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

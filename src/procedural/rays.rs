@@ -14,10 +14,11 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use super::cells::{CylinderCells, wyvill};
-use super::config::{check_colour, check_sizes, mm};
+use super::checks::{check_colour, check_sizes};
 use super::noise::hash_units3;
 use crate::config::Checker;
 use crate::error::Result;
+use crate::frame::mm;
 
 /// Most shells on each side a ray may reach into (bounds the lookups per point).
 const MAX_SHELL_REACH: i32 = 4;

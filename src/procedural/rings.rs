@@ -12,8 +12,8 @@
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
+use super::checks::check_interval;
 use super::colour_map::{ColourMap, ColourMapConfig};
-use super::config::check_interval;
 use crate::config::Checker;
 use crate::error::Result;
 use crate::field::smin::smoothstep;

@@ -7,10 +7,12 @@ pub mod camera;
 pub mod config;
 pub mod lathe;
 pub mod mesh;
+pub mod mesh_shape;
 pub mod renderer;
 pub mod shading;
 
 pub use camera::{Camera, CameraConfig};
 pub use config::{CarveConfig, RenderConfig};
-pub use mesh::{MeshShape, TriMesh};
+pub use mesh::TriMesh;
+pub use mesh_shape::MeshShape;
 pub use renderer::{Shape, render, turntable};

@@ -6,7 +6,8 @@ use rayon::prelude::*;
 
 use super::camera::{Camera, CameraConfig, Ray};
 use super::config::{CarveConfig, RenderConfig};
-use super::mesh::{Hit, MeshShape, TriMesh};
+use super::mesh::TriMesh;
+use super::mesh_shape::{Hit, MeshShape};
 use super::shading::{SurfacePoint, linear_to_srgb, shade};
 use crate::frame::HALF;
 use crate::image2::Image2;

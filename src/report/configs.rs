@@ -9,6 +9,8 @@
 
 use std::path::Path;
 
+use crate::run_folder::RUN_RECORD;
+
 /// One config file of a run.
 #[derive(Clone, Debug)]
 pub struct ConfigFile {
@@ -47,9 +49,9 @@ const KNOWN: [(&str, &str); 5] = [
 /// recognised in the texts.
 pub fn config_files(run: &Path) -> Vec<ConfigFile> {
     let mut names: Vec<(String, &'static str)> = Vec::new();
-    if run.join("run.toml").is_file() {
+    if run.join(RUN_RECORD).is_file() {
         names.push((
-            "run.toml".into(),
+            RUN_RECORD.into(),
             "what the run was made with; every re-run is compared with it",
         ));
     }
@@ -84,7 +86,7 @@ fn top_level_configs(run: &Path) -> Vec<String> {
         .flatten()
         .filter(|e| e.path().is_file())
         .filter_map(|e| e.file_name().to_str().map(str::to_string))
-        .filter(|n| n.ends_with(".toml") && n != "run.toml" && !n.starts_with('.'))
+        .filter(|n| n.ends_with(".toml") && n != RUN_RECORD && !n.starts_with('.'))
         .collect();
     names.sort();
     names

@@ -6,17 +6,18 @@ use std::fmt::Write;
 
 use super::best::{DIGITS, best_cells};
 use super::format::significant;
-use super::html::{Page, escape};
 use super::legend::{METRICS, is_truth_method, metric_info};
 use super::metrics_table::MetricsTable;
+use super::page::{Page, escape};
+use crate::run_folder::{METRICS_CSV, PHASE_CSV};
 
 /// The metrics table, its legend and links to the CSV files.
 pub(super) fn metrics_section(page: &mut Page, table: &MetricsTable) {
     page.section("metrics", "Metrics");
     page.push(&metrics_table_html(table));
     page.push(&legend_html(table));
-    let mut files = vec![page.file_link(&page.run().join("metrics.csv"))];
-    let phase = page.run().join("phase.csv");
+    let mut files = vec![page.file_link(&page.run().join(METRICS_CSV))];
+    let phase = page.run().join(PHASE_CSV);
     if phase.is_file() {
         files.push(format!(
             "{} (pore density by ring phase)",

@@ -12,6 +12,7 @@ pub mod legend;
 pub mod loss_curves;
 pub mod metrics_html;
 pub mod metrics_table;
+pub mod page;
 pub mod plot;
 pub mod sheet;
 pub mod timings;

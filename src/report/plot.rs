@@ -5,7 +5,7 @@
 use std::fmt::Write;
 
 use super::format::significant;
-use super::html::escape;
+use super::page::escape;
 
 /// One curve.
 #[derive(Clone, Debug)]

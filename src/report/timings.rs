@@ -16,7 +16,7 @@ use crate::memory::{peak_resident_bytes, reset_peak_resident};
 use super::metrics_table::MetricsTable;
 
 /// File name of the table in the run folder.
-pub const TIMINGS_FILE: &str = "timings.csv";
+pub use crate::run_folder::TIMINGS_CSV as TIMINGS_FILE;
 
 const HEADER: [&str; 4] = ["stage", "seconds", "peak_mb", "skipped"];
 const MB: f64 = 1024.0 * 1024.0;

@@ -4,6 +4,8 @@
 
 use std::path::Path;
 
+use crate::run_folder::RUN_RECORD;
+
 /// "xylem run: CN03" from the sample folder `run.toml` records (its last component); a
 /// demo, whose sample is the run's own `sample/` folder written from a species preset,
 /// is "xylem demo: chestnut". Without a readable record: "xylem run: " and the run
@@ -29,7 +31,7 @@ pub fn default_title(run: &Path) -> String {
 
 /// `[inputs] sample` of `RUN/run.toml`.
 fn recorded_sample(run: &Path) -> Option<String> {
-    let text = std::fs::read_to_string(run.join("run.toml")).ok()?;
+    let text = std::fs::read_to_string(run.join(RUN_RECORD)).ok()?;
     let record: toml::Table = toml::from_str(&text).ok()?;
     Some(record.get("inputs")?.get("sample")?.as_str()?.to_string())
 }

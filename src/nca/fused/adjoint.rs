@@ -23,7 +23,7 @@ use super::layout::{BACKWARD_BLOCK, gemm_cols, planes_mut};
 use super::mlp::{BlockWork, GradLanes, backward_block};
 use super::perceive::{fill_inputs, lines_at, neighbour_offsets};
 use super::perceive_adjoint::{AdjointScratch, adjoint_xy, adjoint_z, border_signs, piece_groups};
-use crate::nca::config::FILTERS;
+use crate::nca::perception::FILTERS;
 
 /// Gradients of the MLP weights, row-major as the weights (`MlpWeights`).
 #[derive(Clone, Debug, PartialEq)]

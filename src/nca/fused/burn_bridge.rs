@@ -10,9 +10,9 @@
 use burn::optim::GradientsParams;
 use burn::tensor::{Device, Tensor};
 
-use super::dispatch::Isa;
 use super::forward::Stepper;
 use super::inputs::FixedInputs;
+use super::isa::Isa;
 use super::train_step::unroll_gradients as fused_unroll_gradients;
 use super::weights::MlpWeights;
 use crate::error::Result;

@@ -8,8 +8,9 @@
 
 use rayon::prelude::*;
 
-use super::dispatch::{Isa, Kernels, multiversion};
+use super::dispatch::{Kernels, multiversion};
 use super::inputs::FixedInputs;
+use super::isa::Isa;
 use super::layout::{FORWARD_BLOCK, Shapes, planes_mut};
 use super::mlp::{BlockWork, forward_block};
 use super::perceive::fill_inputs;

@@ -13,7 +13,7 @@
 
 use super::dispatch::{MAX_NV, Tiles};
 use super::lanes::{LANES, round_up};
-use crate::nca::config::{FILTERS, POSITION_CHANNELS};
+use crate::nca::perception::{FILTERS, POSITION_CHANNELS};
 
 /// Cells per block in the forward step (inputs 73 x 64 and hidden 128 x 64 floats: 51 KB).
 pub const FORWARD_BLOCK: usize = 64;

@@ -7,7 +7,8 @@
 //! - [`lanes`]: lane arrays (16 cells), the unit of SIMD work.
 //! - [`simd`]: explicit vectors of a lane array per instruction set, behind CPU tokens.
 //! - [`gemm`]: the two register-tiled matrix kernels (weights x block, block x block^T).
-//! - [`dispatch`]: instruction-set detection and one compiled copy of each kernel per set.
+//! - [`isa`]: the instruction-set levels and run-time detection of what this CPU has.
+//! - [`dispatch`]: one compiled copy of each kernel per instruction set.
 //! - [`layout`]: buffer layouts, x-plane tasks, blocks, padded shapes.
 //! - [`inputs`]: the fixed inputs of a region (conditioning, positions).
 //! - [`weights`]: the MLP's weights as arrays, and packed for the kernels.
@@ -25,6 +26,7 @@ pub mod dispatch;
 pub mod forward;
 pub mod gemm;
 pub mod inputs;
+pub mod isa;
 pub mod lanes;
 pub mod layout;
 pub mod mlp;
@@ -35,7 +37,7 @@ pub mod train_step;
 pub mod weights;
 
 pub use adjoint::Gradients;
-pub use dispatch::{Isa, Level};
 pub use forward::Stepper;
 pub use inputs::FixedInputs;
+pub use isa::{Isa, Level};
 pub use weights::MlpWeights;

@@ -16,7 +16,7 @@
 
 use super::inputs::FixedInputs;
 use super::layout::{Dims, Shapes};
-use crate::nca::config::FILTERS;
+use crate::nca::perception::FILTERS;
 
 /// Longest z-piece (cells); at least the largest block.
 pub const MAX_PIECE: usize = 256;

@@ -17,7 +17,7 @@
 //! applied to the one-past-the-end values of the Sobel z line).
 
 use super::perceive::{Lines, MAX_PIECE, slice_lines, window};
-use crate::nca::config::FILTERS;
+use crate::nca::perception::FILTERS;
 
 /// Scratch values per xy line of a group of pieces (24 KB for the six).
 pub const GROUP_FLOATS: usize = 1024;

@@ -6,12 +6,12 @@
 //! cell-updates/s on AVX-512 against 0.57 M for the portable build with a 2-array tile).
 //!
 //! Soundness: an [`Avx512`] or [`Avx2`] value is a token that exists only for an
-//! instruction set the CPU has (`from_isa` checks the `dispatch::Isa`, which is only made
+//! instruction set the CPU has (`from_isa` checks the `isa::Isa`, which is only made
 //! after `is_x86_feature_detected!`), and every method takes the token. So the `unsafe`
 //! intrinsic calls below run only on CPUs that support them; loads and stores go through
 //! `&[f32; 16]` references, which are in bounds by type.
 
-use super::dispatch::{Isa, Level};
+use super::isa::{Isa, Level};
 use super::lanes::LANES;
 
 /// The vector operations the kernels use, on one lane array.

@@ -4,8 +4,8 @@ use super::dispatch::Tiles;
 use super::gemm::pack;
 use super::layout::Shapes;
 use crate::error::{Result, XylemError};
-use crate::nca::config::FILTERS;
 use crate::nca::model::Nca;
+use crate::nca::perception::FILTERS;
 use crate::nca::tensors::to_vec;
 
 /// Row-major copies of the model's parameters (burn's layout).

@@ -14,19 +14,21 @@
 
 use std::path::Path;
 
-use anyhow::Result;
 use burn::tensor::Device;
-use xylem::field::{BaseColourTexture, ColourSpace, FieldConfig, GrowthField};
-use xylem::frame::{Face, Plane};
-use xylem::image2::Image2;
-use xylem::io::load_rgb;
-use xylem::loss::LossConfig;
-use xylem::metrics::{Comparer, METRIC_NAMES};
-use xylem::procedural::ProceduralWood;
-use xylem::report::{MetricsTable, TRUTH_MARK};
-use xylem::slice::slice_plane;
-use xylem::texture::SolidTexture;
-use xylem::volume::Volume;
+
+use crate::Result;
+use crate::field::{BaseColourTexture, ColourSpace, FieldConfig, GrowthField};
+use crate::frame::{Face, Plane};
+use crate::image2::Image2;
+use crate::io::load_rgb;
+use crate::loss::LossConfig;
+use crate::metrics::phase_density::{PhaseDensity, curve_correlation};
+use crate::metrics::{Comparer, METRIC_NAMES};
+use crate::procedural::ProceduralWood;
+use crate::report::{MetricsTable, SHEET_ROWS, TRUTH_MARK, row_plane};
+use crate::slice::slice_plane;
+use crate::texture::SolidTexture;
+use crate::volume::Volume;
 
 /// One reference image and the plane it shows.
 struct Reference {
@@ -70,15 +72,17 @@ fn references(sample: &Path, trained: &[Face]) -> Result<Vec<Reference>> {
     Ok(refs)
 }
 
-/// The metrics table of a run whose fit, synthesis and procedural texture are given.
+/// The metrics table of a run whose fit, synthesis and procedural texture are given; the
+/// comparison's features are computed on `device`.
 pub fn metrics_table(
     sample: &Path,
     trained: &[Face],
     fit: &FieldConfig,
     procedural: &ProceduralWood,
     nca: &Volume,
+    device: &Device,
 ) -> Result<MetricsTable> {
-    let comparer = Comparer::new(&LossConfig::default_config(), &Device::flex());
+    let comparer = Comparer::new(&LossConfig::default_config(), device);
     let field = GrowthField::from_config(fit);
     let colour = fit.base_colour.clone();
     let mut header = vec!["method".to_string(), "image".to_string()];
@@ -130,8 +134,6 @@ pub fn phase_table(
     textures: &[(&str, &dyn SolidTexture)],
     size: usize,
 ) -> Result<MetricsTable> {
-    use xylem::metrics::phase_density::{PhaseDensity, curve_correlation};
-    use xylem::report::{SHEET_ROWS, row_plane};
     let field = GrowthField::from_config(fit);
     let g_map = |plane: &Plane| slice_plane(&field, plane, size, size);
     let is_face = |row: &str| Face::parse(row).is_some();

@@ -1,0 +1,52 @@
+//! The base colour as a solid texture: the growth field sampled at a point, coloured by the
+//! fitted bars, in white-balanced or real colour.
+
+use glam::Vec3;
+
+use super::base_colour::BaseColour;
+use super::growth::GrowthField;
+use crate::frame::Face;
+use crate::texture::SolidTexture;
+
+/// Which colours a [`BaseColourTexture`] returns.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ColourSpace {
+    /// White-balanced, no face offsets: what the NCA is conditioned on.
+    WhiteBalanced,
+    /// Real colour as seen on a face (its offset and white balance) or, with `None`, in a cut
+    /// or volume.
+    Real(Option<Face>),
+}
+
+/// The base colour as a solid texture: field + bars -> RGB (3 channels).
+#[derive(Clone, Debug)]
+pub struct BaseColourTexture {
+    pub field: GrowthField,
+    pub colour: BaseColour,
+    pub space: ColourSpace,
+}
+
+impl BaseColourTexture {
+    pub fn new(field: GrowthField, colour: BaseColour, space: ColourSpace) -> Self {
+        Self {
+            field,
+            colour,
+            space,
+        }
+    }
+}
+
+impl SolidTexture for BaseColourTexture {
+    fn channels(&self) -> usize {
+        3
+    }
+
+    fn eval(&self, p: Vec3, out: &mut [f32]) {
+        let rgb = self.colour.colour(&self.field.sample(p));
+        let rgb = match self.space {
+            ColourSpace::WhiteBalanced => rgb,
+            ColourSpace::Real(face) => self.colour.to_real(rgb, face),
+        };
+        out.copy_from_slice(&rgb);
+    }
+}

@@ -1,0 +1,101 @@
+//! What a run compares: the reference images (photos of the faces, the true cuts of a
+//! synthetic sample) and the textures set beside them (fitted rings, base colour, the
+//! procedural model, the NCA's volume), loaded once for the sheet, renders and metrics.
+
+use std::path::Path;
+
+use crate::field::{BaseColourTexture, ColourSpace, FieldConfig, GrowthField};
+use crate::frame::Face;
+use crate::image2::Image2;
+use crate::io::load_rgb;
+use crate::io::npy::read_volume;
+use crate::procedural::{ProceduralWood, SpeciesConfig};
+use crate::report::SHEET_ROWS;
+use crate::run_folder::RunLayout;
+use crate::volume::Volume;
+use crate::{Result, XylemError};
+
+/// The textures and references of one finished run folder.
+pub struct Compared {
+    pub fit: FieldConfig,
+    pub nca: Volume,
+    pub base: BaseColourTexture,
+    pub procedural: ProceduralWood,
+    /// Photos of the faces and, for a synthetic sample, the true cuts (SHEET_ROWS order).
+    pub reference: Vec<Option<Image2>>,
+    /// The sample is synthetic: its procedural model is the truth.
+    pub synthetic: bool,
+}
+
+impl Compared {
+    /// Loads the fit and volume of `layout`; `species` names the preset shown on the fitted
+    /// field when the sample has no truth of its own.
+    pub fn load(layout: &RunLayout, sample: &Path, species: &str) -> Result<Self> {
+        let fit = FieldConfig::load(&layout.fit_file())?;
+        let nca = read_volume(&layout.volume())?;
+        let truth = truth_species(sample)?;
+        let synthetic = truth.is_some();
+        let species = match truth {
+            Some(t) => t,
+            None => species_on_field(species, &fit)?,
+        };
+        Ok(Self {
+            base: base_colour(&fit, &layout.fit_file())?,
+            procedural: ProceduralWood::new(&species),
+            reference: reference_column(sample)?,
+            synthetic,
+            fit,
+            nca,
+        })
+    }
+}
+
+/// The species config of a synthetic sample (`truth/species.toml`), if it has one.
+fn truth_species(sample: &Path) -> Result<Option<SpeciesConfig>> {
+    let path = sample.join("truth/species.toml");
+    Ok(if path.is_file() {
+        Some(SpeciesConfig::load(&path)?)
+    } else {
+        None
+    })
+}
+
+/// A species preset's colours on the fitted growth field.
+fn species_on_field(name: &str, fit: &FieldConfig) -> Result<SpeciesConfig> {
+    let mut species = crate::presets::load_species_preset(name)?;
+    species.pith = fit.pith.clone();
+    species.growth = fit.growth.clone();
+    species.knots = fit.knots.clone();
+    Ok(species)
+}
+
+/// The base colour of a fit in real colour, for cuts and volumes.
+fn base_colour(fit: &FieldConfig, path: &Path) -> Result<BaseColourTexture> {
+    let colour = fit
+        .base_colour
+        .clone()
+        .ok_or_else(|| XylemError::ConfigValue {
+            path: path.to_path_buf(),
+            key: "base_colour".into(),
+            message: "is missing: the fit wrote no base colour".into(),
+        })?;
+    Ok(BaseColourTexture::new(
+        GrowthField::from_config(fit),
+        colour,
+        ColourSpace::Real(None),
+    ))
+}
+
+/// Photos of the faces, and the true cuts when the sample has them.
+fn reference_column(sample: &Path) -> Result<Vec<Option<Image2>>> {
+    SHEET_ROWS
+        .iter()
+        .map(|row| {
+            let path = match Face::parse(row) {
+                Some(face) => sample.join(format!("{face}_col.png")),
+                None => sample.join(format!("truth/{row}.png")),
+            };
+            path.is_file().then(|| load_rgb(&path)).transpose()
+        })
+        .collect()
+}

@@ -1,0 +1,160 @@
+//! The training stage: the NCA trained on a sample's faces, conditioned on its fit, into one
+//! folder that can be resumed after a kill (`xylem train`, and `train/` of a run).
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use super::reporter::Reporter;
+use crate::Result;
+use crate::device::DeviceKind;
+use crate::frame::Face;
+use crate::io::{OutputDir, Provenance};
+use crate::nca::TrainConfig;
+use crate::nca::face_loss;
+use crate::nca::fit_source::{FIT_FILE, FitRecord, load_fit};
+use crate::nca::model_dir::ModelMeta;
+use crate::nca::session::{TrainOptions, run_training, saved_config};
+use crate::nca::targets::photo_mean;
+use crate::nca::train::TrainData;
+use crate::sample::{Needs, Sample};
+
+/// A fresh training or the continuation of the folder's own.
+#[derive(Clone, Debug)]
+pub enum TrainStart {
+    Fresh {
+        /// The fit giving B and G: a `fit.toml` (or its folder), or a field config.
+        fit: PathBuf,
+        /// The training config (TOML).
+        config: PathBuf,
+        /// The faces trained on.
+        faces: Vec<Face>,
+    },
+    /// From the folder's last checkpoint, with its own config, fit and faces.
+    Resume,
+}
+
+/// What to train.
+#[derive(Clone, Debug)]
+pub struct TrainStageOptions<'a> {
+    /// The sample folder (its photos are the targets).
+    pub sample: &'a Path,
+    pub start: TrainStart,
+    /// CPU backend of burn's parts.
+    pub device: DeviceKind,
+    /// Stop after this many iterations without finishing, as if killed (tests of resume).
+    pub stop_after: Option<usize>,
+}
+
+/// How the stage ended.
+#[derive(Clone, Debug)]
+pub struct TrainSummary {
+    pub iterations: usize,
+    /// The schedule ran to its end and the final model is written.
+    pub finished: bool,
+    pub last_loss: f64,
+    pub seconds: f64,
+}
+
+/// The photos a training uses (`OUT/sample.toml`: the sample folder and a hash of its files).
+/// A fresh run records them; a resumed one must be given the same photos, or the rest of the
+/// training would learn other wood under the same model.
+const SAMPLE_RECORD: &str = "sample.toml";
+
+/// Trains into `out` (model.bpk, model.toml, fit.toml, train.toml, loss.csv, loss.png,
+/// checkpoint/), showing the loss as it goes.
+pub fn train_into(
+    options: &TrainStageOptions,
+    out: &Path,
+    reporter: &dyn Reporter,
+) -> Result<TrainSummary> {
+    let resume = matches!(options.start, TrainStart::Resume);
+    let dir = OutputDir::prepare(out)?;
+    let (config, source, fit, faces) = match &options.start {
+        TrainStart::Resume => {
+            let meta = ModelMeta::load(dir.root())?;
+            let fit = FitRecord::load(&dir.path(FIT_FILE), None)?;
+            let config = saved_config(dir.root())?;
+            let source = "the resumed run's train.toml".to_string();
+            (
+                config,
+                source,
+                PendingFit::Loaded(Box::new(fit)),
+                meta.faces,
+            )
+        }
+        TrainStart::Fresh { fit, config, faces } => (
+            TrainConfig::load(config)?,
+            config.display().to_string(),
+            PendingFit::File(fit),
+            faces.clone(),
+        ),
+    };
+    let needs = Needs {
+        photos: true,
+        arl: false,
+    };
+    let sample = Sample::load(options.sample, &faces, needs)?;
+    check_sample_record(options.sample, &dir, resume)?;
+    let fit = match fit {
+        PendingFit::Loaded(f) => *f,
+        // A fresh fit's ramp colours (field configs) need the photos' mean colour.
+        PendingFit::File(path) => load_fit(path, photo_mean(&sample))?,
+    };
+    let data = TrainData::prepare(&sample, fit, &config);
+    let loss = face_loss(&config, &data, &options.device.device())?;
+    let bar = reporter.counter("train", config.schedule.iterations as u64);
+    let started = Instant::now();
+    let train_options = TrainOptions {
+        resume,
+        stop_after: options.stop_after,
+    };
+    let mut first = true;
+    let outcome = run_training(
+        &dir,
+        &config,
+        &source,
+        &data,
+        options.device,
+        loss.as_ref(),
+        &train_options,
+        &mut |row| {
+            if first {
+                bar.set_position(row.iteration as u64);
+                bar.reset_eta();
+                first = false;
+            }
+            bar.set_message(format!("loss {:.4}", row.loss));
+            bar.set_position(row.iteration as u64 + 1);
+        },
+    )
+    .map_err(|e| e.during(format!("training into {}", out.display())))?;
+    bar.finish();
+    if outcome.finished {
+        reporter.say(&format!(
+            "trained {} iterations; model in {} (model.bpk, loss.png)",
+            outcome.iterations,
+            out.display()
+        ));
+    }
+    Ok(TrainSummary {
+        iterations: outcome.iterations,
+        finished: outcome.finished,
+        last_loss: outcome.rows.last().map_or(f64::NAN, |r| f64::from(r.loss)),
+        seconds: started.elapsed().as_secs_f64(),
+    })
+}
+
+/// The fit a training starts from: a resumed run's own, or a file still to be read.
+enum PendingFit<'a> {
+    Loaded(Box<FitRecord>),
+    File(&'a Path),
+}
+
+fn check_sample_record(sample: &Path, out: &OutputDir, resume: bool) -> Result<()> {
+    let record = Provenance::default().with_folder("sample", sample)?;
+    let path = out.path(SAMPLE_RECORD);
+    if !resume {
+        let _ = std::fs::remove_file(&path); // a fresh run replaces the record
+    }
+    record.check_or_record(&path, resume)
+}
