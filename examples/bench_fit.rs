@@ -22,6 +22,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use xylem::config::ConfigFile;
 use xylem::field::{FieldConfig, GrowthField, PithAxis, RingImage};
 use xylem::fit::metrics::{
     axis_errors, iso_error_mm, shifted_correlation, truth_ring_correlations,

@@ -21,6 +21,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use xylem::config::ConfigFile;
 use xylem::field::{FieldConfig, GrowthField, RingImage};
 use xylem::fit::metrics::{iso_error_mm, shifted_correlation, truth_ring_correlations};
 use xylem::fit::run::contour_set;

@@ -10,6 +10,7 @@
 //! trained through the same loss can.
 
 use burn::tensor::{Device, Tensor, TensorData};
+use xylem::config::ConfigFile;
 use xylem::field::{FieldConfig, GrowthField};
 use xylem::frame::Face;
 use xylem::io::{load_rgb, save_png};

@@ -9,6 +9,7 @@ use std::path::PathBuf;
 
 use burn::tensor::Device;
 use xylem::Image2;
+use xylem::config::ConfigFile;
 use xylem::io::load_rgb;
 use xylem::loss::{LossConfig, StyleLoss, image_to_tensor, white_balance};
 

@@ -90,6 +90,37 @@ pub fn parse_checked<T: DeserializeOwned + Serialize>(
     Ok(cfg)
 }
 
+/// A config file type: TOML parsed into a serde struct (unknown keys are errors), range
+/// checked with errors naming the file and the key, and copied beside the outputs it made.
+/// A type states its checks once (`validate`); loading, parsing and the copy come with it.
+pub trait ConfigFile: DeserializeOwned + Serialize + Sized {
+    /// Range checks of every value; keys in messages are relative to `check`'s prefix.
+    fn validate(&self, check: &Checker) -> Result<()>;
+
+    /// Loads and validates a config file.
+    fn load(path: &Path) -> Result<Self> {
+        load_checked(path, Self::validate)
+    }
+
+    /// Parses and validates TOML text (`origin` names it in errors).
+    fn parse(text: &str, origin: &Path) -> Result<Self> {
+        parse_checked(text, origin, Self::validate)
+    }
+
+    /// A built-in config's text (compiled in, so it is known to be valid: tests parse every
+    /// one), named `origin` in the impossible error.
+    fn built_in(text: &str, origin: &str) -> Self {
+        Self::parse(text, Path::new(origin))
+            .unwrap_or_else(|e| panic!("built-in config {origin} is invalid: {e}"))
+    }
+
+    /// Writes the config as used (all defaults filled in) beside an output, with a header
+    /// naming where it came from.
+    fn save_copy(&self, path: &Path, source: &str) -> Result<()> {
+        write_config_copy(path, self, source)
+    }
+}
+
 /// Serialises a config to TOML text.
 pub fn to_toml<T: Serialize>(value: &T) -> Result<String> {
     toml::to_string(value).map_err(|e| XylemError::input("config serialisation", e.to_string()))

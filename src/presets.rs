@@ -4,6 +4,7 @@
 use std::path::Path;
 
 use crate::XylemError;
+use crate::config::ConfigFile;
 use crate::field::FieldConfig;
 use crate::procedural::SpeciesConfig;
 

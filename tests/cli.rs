@@ -4,6 +4,7 @@ use std::path::Path;
 
 mod common;
 use common::{repo, run_err, run_ok, scratch, xylem};
+use xylem::config::ConfigFile;
 
 #[test]
 fn field_writes_faces_cuts_cross_and_config() {

@@ -4,6 +4,7 @@
 use std::path::Path;
 
 use glam::Vec3;
+use xylem::config::ConfigFile;
 use xylem::field::smin::{power_smin, smoothing};
 use xylem::field::{
     FieldConfig, GrowthConfig, GrowthField, KnotConfig, PithConfig, RateGrid, Strand,

@@ -9,6 +9,7 @@ use std::process::Command;
 
 use glam::Vec3;
 use xylem::config::Checker;
+use xylem::config::ConfigFile;
 use xylem::field::RingImage;
 use xylem::field::{
     Cylindrical, FieldConfig, GrowthConfig, GrowthField, KnotConfig, PithAxis, PithConfig,

@@ -5,6 +5,7 @@ mod common;
 
 use burn::tensor::{Device, Tensor};
 use xylem::Image2;
+use xylem::config::ConfigFile;
 use xylem::config::{Checker, parse_toml};
 use xylem::io::load_rgb;
 use xylem::loss::{LossConfig, Nonlinearity, StyleLoss, image_to_tensor, white_balance};

@@ -7,6 +7,7 @@ mod common;
 use common::{repo, run_ok, scratch, xylem};
 
 use xylem::Image2;
+use xylem::config::ConfigFile;
 use xylem::device::DeviceKind;
 use xylem::field::{GrowthField, ring_intensity};
 use xylem::frame::Face;

@@ -5,6 +5,7 @@
 mod common;
 
 use glam::Vec3;
+use xylem::config::ConfigFile;
 use xylem::field::{FieldConfig, GrowthField, ring_intensity};
 use xylem::frame::{Face, Plane};
 use xylem::image2::Image2;

@@ -21,6 +21,7 @@ use xylem::procedural::SpeciesConfig;
 use xylem::render::RenderConfig;
 
 use reliability_support::{Expect, Tally, error, judge_result, judge_run, repo, run, set, xylem};
+use xylem::config::ConfigFile;
 
 const FIELD: &str = "[pith]\norigin = [0.0, 0.0, -2.5]\ndirection = [0.0, 1.0, 0.1]\n\
                      [growth]\nyears_per_unit = 12.0\n";

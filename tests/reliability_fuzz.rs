@@ -39,6 +39,7 @@ use xylem::rng::Rng;
 use xylem::sample::{Needs, Sample};
 
 use reliability_support::{copy_dir, repo, tiny_data, tiny_model};
+use xylem::config::ConfigFile;
 
 // ---------------------------------------------------------------------------------------
 // Allocation watch: the largest single request made on the current thread.

@@ -14,6 +14,7 @@ use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
 use reliability_support::{Expect, Tally, error, judge_run, repo, run, xylem};
+use xylem::config::ConfigFile;
 
 const PRECIOUS: &[u8] = b"my notes, not to be lost\n";
 

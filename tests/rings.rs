@@ -8,6 +8,7 @@ use std::path::Path;
 
 use xylem::Face;
 use xylem::config::Checker;
+use xylem::config::ConfigFile;
 use xylem::fit::FitConfig;
 use xylem::io::{OutputDir, load_rgb, save_png};
 use xylem::presets::load_species_preset;

@@ -4,6 +4,7 @@
 use std::time::Instant;
 
 use xylem::Image2;
+use xylem::config::ConfigFile;
 use xylem::frame::Face;
 use xylem::nca::fit_source::{FitRecord, RampColours};
 use xylem::nca::train::{TrainData, Trainer};

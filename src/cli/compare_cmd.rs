@@ -11,6 +11,7 @@ use xylem::loss::LossConfig;
 use xylem::metrics::{Comparer, difference_sheet};
 
 use super::json_out::{Summary, json_mode};
+use xylem::config::ConfigFile;
 
 /// Compare a candidate image with a reference: ring alignment, grain direction, patch texture
 /// distance (all, lightness, chroma), Lab colour differences and the style loss.

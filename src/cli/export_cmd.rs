@@ -15,6 +15,7 @@ use xylem::io::{OutputDir, check_new_file};
 use xylem::render::RenderConfig;
 
 use super::output_args::parse_size;
+use xylem::config::ConfigFile;
 
 /// Export a volume for other tools: NumPy .npy, Mitsuba 3 .vol or a whole Mitsuba scene,
 /// NRRD (VTK/ParaView, 3D Slicer), OpenVDB .vdb (Blender, Houdini).

@@ -5,6 +5,7 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::Args;
+use xylem::config::ConfigFile;
 use xylem::field::FieldConfig;
 use xylem::presets::{load_field_preset, load_species_preset, species_preset_names};
 use xylem::procedural::SpeciesConfig;

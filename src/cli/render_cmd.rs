@@ -9,6 +9,7 @@ use xylem::render::{RenderConfig, Shape, TriMesh, render, turntable};
 
 use super::output_args::parse_size;
 use super::texture_source::TextureSource;
+use xylem::config::ConfigFile;
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum View {

@@ -12,6 +12,7 @@ use xylem::loss::{LossConfig, Texture2dConfig, synthesize};
 use xylem::report::captioned_row;
 
 use super::progress::Progress;
+use xylem::config::ConfigFile;
 
 /// Optimise an image from noise until its style-loss statistics match a photo's.
 #[derive(Args, Debug)]

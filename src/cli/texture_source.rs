@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::Args;
 use glam::Vec3;
+use xylem::config::ConfigFile;
 use xylem::field::{FieldConfig, GrowthField, RingImage};
 use xylem::procedural::{ProceduralWood, SpeciesConfig, WithFibreDirection};
 use xylem::texture::{FirstChannels, SolidTexture};

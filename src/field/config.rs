@@ -15,12 +15,10 @@
 //! The component structs ([`PithConfig`], [`GrowthConfig`], [`KnotConfig`]) are reused by the
 //! configs of later stages (procedural wood, fit output), which hold them as fields.
 
-use std::path::Path;
-
 use serde::{Deserialize, Serialize};
 
 use super::base_colour::BaseColour;
-use crate::config::{Checker, load_checked, parse_checked};
+use crate::config::{Checker, ConfigFile};
 use crate::error::Result;
 
 /// Largest coordinate accepted anywhere (cube units): 100 units = 4 m.
@@ -204,19 +202,9 @@ fn default_dead_sharpen() -> f32 {
     0.5
 }
 
-impl FieldConfig {
-    /// Loads and validates a field config file.
-    pub fn load(path: &Path) -> Result<Self> {
-        load_checked(path, Self::validate)
-    }
-
-    /// Parses and validates TOML text (`origin` names it in errors).
-    pub fn parse(text: &str, origin: &Path) -> Result<Self> {
-        parse_checked(text, origin, Self::validate)
-    }
-
+impl ConfigFile for FieldConfig {
     /// Range checks of every value; keys in messages are relative to `check`'s prefix.
-    pub fn validate(&self, check: &Checker) -> Result<()> {
+    fn validate(&self, check: &Checker) -> Result<()> {
         self.pith.validate(&check.nested("pith"))?;
         self.growth.validate(&check.nested("growth"))?;
         // Evaluation costs grow with the knot count (1000 knots took 9 s at 32^3, 10000

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use crate::config::{Checker, load_checked, parse_checked};
+use crate::config::{Checker, ConfigFile};
 use crate::error::Result;
 use crate::rings::LocaliserConfig;
 
@@ -247,22 +247,14 @@ fn weight(check: &Checker, key: &str, value: f32) -> Result<()> {
 }
 
 impl FitConfig {
-    /// Loads and validates a fit config file.
-    pub fn load(path: &Path) -> Result<Self> {
-        load_checked(path, Self::validate)
-    }
-
     /// The config at `path`, or the built-in defaults when no file is given.
     pub fn load_or_default(path: Option<&Path>) -> Result<Self> {
         path.map_or_else(|| Ok(Self::default()), Self::load)
     }
+}
 
-    /// Parses and validates TOML text (`origin` names it in errors).
-    pub fn parse(text: &str, origin: &Path) -> Result<Self> {
-        parse_checked(text, origin, Self::validate)
-    }
-
-    pub fn validate(&self, check: &Checker) -> Result<()> {
+impl ConfigFile for FitConfig {
+    fn validate(&self, check: &Checker) -> Result<()> {
         self.contours.validate(&check.nested("contours"))?;
         self.pith.validate(&check.nested("pith"))?;
         self.distortion.validate(&check.nested("distortion"))?;

@@ -25,6 +25,7 @@ use super::pith_search::{axes_differ, axis_loss, search};
 use super::ring_peaks::{median_spacing, profile_peaks};
 use super::white_balance::{balance, white_balance};
 use crate::config::Checker;
+use crate::config::ConfigFile;
 use crate::error::{Result, XylemError};
 use crate::field::{
     BaseColour, FieldConfig, GrowthConfig, GrowthField, KnotConfig, PithAxis, PithConfig,

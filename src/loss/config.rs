@@ -2,11 +2,9 @@
 //! Wasserstein projections and the weight of each term. Plain serde structs; unknown keys are
 //! errors and every value is range-checked with a message naming the key.
 
-use std::path::Path;
-
 use serde::{Deserialize, Serialize};
 
-use crate::config::{Checker, load_toml, parse_toml};
+use crate::config::{Checker, ConfigFile};
 use crate::error::Result;
 
 /// The built-in default (the text of `configs/loss/default.toml`).
@@ -112,24 +110,19 @@ pub struct LossWeights {
 }
 
 impl LossConfig {
-    /// Loads and validates a loss config file.
-    pub fn load(path: &Path) -> Result<Self> {
-        let cfg: LossConfig = load_toml(path)?;
-        cfg.validate(&Checker::new(path))?;
-        Ok(cfg)
-    }
-
     /// The built-in default (same as `configs/loss/default.toml`).
     pub fn default_config() -> Self {
-        let origin = Path::new("<built-in configs/loss/default.toml>");
-        let cfg: LossConfig =
-            parse_toml(DEFAULT_LOSS, origin).expect("built-in loss config parses");
-        cfg.validate(&Checker::new(origin))
-            .expect("built-in loss config is valid");
-        cfg
+        Self::built_in(DEFAULT_LOSS, "<built-in configs/loss/default.toml>")
     }
 
-    pub fn validate(&self, check: &Checker) -> Result<()> {
+    /// Channels of one feature layer.
+    pub fn features_per_layer(&self) -> usize {
+        self.filters.kernel_sizes.len() * (self.filters.random + 2 * self.filters.orientations)
+    }
+}
+
+impl ConfigFile for LossConfig {
+    fn validate(&self, check: &Checker) -> Result<()> {
         check.count("octaves", self.octaves, 1, 8, "pyramid levels")?;
         check.count(
             "min_layer_pixels",
@@ -141,11 +134,6 @@ impl LossConfig {
         self.filters.validate(&check.nested("filters"))?;
         self.swd.validate(&check.nested("swd"))?;
         self.weights.validate(&check.nested("weights"))
-    }
-
-    /// Channels of one feature layer.
-    pub fn features_per_layer(&self) -> usize {
-        self.filters.kernel_sizes.len() * (self.filters.random + 2 * self.filters.orientations)
     }
 }
 

@@ -14,6 +14,7 @@ use super::config::LossConfig;
 use super::image_tensor::tensor_to_image;
 use super::style::StyleLoss;
 use crate::config::Checker;
+use crate::config::ConfigFile;
 use crate::error::{Result, XylemError};
 use crate::image2::Image2;
 use crate::rng::Rng;

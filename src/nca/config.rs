@@ -5,15 +5,13 @@
 //! ([`ModelSpec`]) is its own table because the trained-model folder stores it again: a
 //! model can only be loaded with the architecture it was trained with.
 
-use std::path::Path;
-
 use serde::{Deserialize, Serialize};
 
 use super::cond_channel::CondChannel;
 use super::grain_noise::GrainNoiseSpec;
 use super::perception::{FILTERS, POSITION_CHANNELS, PerceptionImpl};
 use super::placement::Placement;
-use crate::config::{Checker, load_toml, parse_toml};
+use crate::config::{Checker, ConfigFile};
 use crate::error::Result;
 use crate::loss::{GuidedConfig, LossConfig};
 
@@ -40,25 +38,19 @@ pub struct TrainConfig {
 
 /// The network: state size, hidden width, conditioning, perception implementation.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 pub struct ModelSpec {
     /// State channels per voxel; the first three are the RGB residual on B.
-    #[serde(default = "default_state_channels")]
     pub state_channels: usize,
     /// Width of the hidden layer of the update MLP.
-    #[serde(default = "default_hidden")]
     pub hidden: usize,
     /// Conditioning channels, in order (empty: position only, the ablation).
-    #[serde(default = "default_conditioning")]
     pub conditioning: Vec<CondChannel>,
     /// How the depthwise filters are computed (same result; speed differs by backend).
-    #[serde(default)]
     pub perception: PerceptionImpl,
     /// Amplitude of the uniform seed state, [-a, a].
-    #[serde(default = "default_seed_amplitude")]
     pub seed_amplitude: f32,
     /// Cell sizes of the `grain_noise` conditioning channel.
-    #[serde(default)]
     pub grain_noise: GrainNoiseSpec,
 }
 
@@ -122,32 +114,26 @@ pub struct PoolConfig {
 
 /// The face loss and the weights of the loss terms (the face term has weight 1).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 pub struct LossWeights {
     /// Weight of mean |S - clamp(S, -1, 1)|, which keeps the state bounded.
-    #[serde(default = "default_overflow")]
     pub overflow: f32,
     /// Which loss compares the generated faces with the photos.
-    #[serde(default)]
     pub face: FaceLossKind,
     /// The style loss's config (`[loss.style]`, same keys as `configs/loss/default.toml`,
     /// which is the default). The guided loss takes its features from here too.
-    #[serde(default = "LossConfig::default_config")]
     pub style: LossConfig,
     /// The guided loss's window and guide settings (`[loss.guided]`).
-    #[serde(default)]
     pub guided: GuidedConfig,
     /// Planes inside each crop, parallel to the faces it touches, that are also compared
     /// with those faces' photos (guided loss: with their own ring phase). A plane parallel
     /// to a face cuts the fibres as the face does, so it should look like it; without them
     /// the inside of the cube is never seen by the loss. Their depths are drawn per
     /// iteration.
-    #[serde(default)]
     pub inner_planes: usize,
     /// What colour the targets have: `base` (each face photo scaled so its mean is the base
     /// colour's mean on that face: the NCA adds texture, not a colour shift) or `face` (each
     /// photo divided by twice its own mean, DESIGN section 6 as first written).
-    #[serde(default)]
     pub target_colour: TargetColour,
 }
 
@@ -162,27 +148,23 @@ pub enum TargetColour {
 
 /// Memory controls of the unroll.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 pub struct MemoryConfig {
     /// Steps per recomputed segment in backpropagation (memory grows with this, time with
     /// its inverse); 0 keeps the whole unroll on the tape.
-    #[serde(default = "default_segment")]
     pub segment_steps: usize,
     /// Largest number of voxels updated at once in an unroll without gradients (the hidden
     /// layer holds `hidden` floats per voxel).
-    #[serde(default = "default_slab_voxels")]
     pub slab_voxels: usize,
 }
 
 /// When training writes checkpoints for `--resume`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 pub struct CheckpointConfig {
     /// Wall-clock minutes between checkpoints (the last iteration is always saved).
-    #[serde(default = "default_minutes")]
     pub minutes: f32,
     /// Also checkpoint every this many iterations (0: only by time).
-    #[serde(default)]
     pub every: usize,
 }
 
@@ -222,18 +204,6 @@ pub struct ComputeConfig {
     pub engine: Engine,
 }
 
-fn default_state_channels() -> usize {
-    12
-}
-fn default_hidden() -> usize {
-    128
-}
-fn default_conditioning() -> Vec<CondChannel> {
-    vec![CondChannel::GreyB, CondChannel::G]
-}
-fn default_seed_amplitude() -> f32 {
-    0.05
-}
 fn default_lr() -> f64 {
     1e-3
 }
@@ -243,23 +213,11 @@ fn default_decay_factor() -> f64 {
 fn default_fresh_every() -> usize {
     32
 }
-fn default_overflow() -> f32 {
-    1.0
-}
-fn default_segment() -> usize {
-    8
-}
-fn default_slab_voxels() -> usize {
-    1 << 18
-}
-fn default_minutes() -> f32 {
-    5.0
-}
 
 impl Default for LossWeights {
     fn default() -> Self {
         Self {
-            overflow: default_overflow(),
+            overflow: 1.0,
             face: FaceLossKind::default(),
             style: LossConfig::default_config(),
             guided: GuidedConfig::default(),
@@ -272,8 +230,8 @@ impl Default for LossWeights {
 impl Default for MemoryConfig {
     fn default() -> Self {
         Self {
-            segment_steps: default_segment(),
-            slab_voxels: default_slab_voxels(),
+            segment_steps: 8,
+            slab_voxels: 1 << 18,
         }
     }
 }
@@ -281,7 +239,7 @@ impl Default for MemoryConfig {
 impl Default for CheckpointConfig {
     fn default() -> Self {
         Self {
-            minutes: default_minutes(),
+            minutes: 5.0,
             every: 0,
         }
     }
@@ -290,11 +248,11 @@ impl Default for CheckpointConfig {
 impl Default for ModelSpec {
     fn default() -> Self {
         Self {
-            state_channels: default_state_channels(),
-            hidden: default_hidden(),
-            conditioning: default_conditioning(),
+            state_channels: 12,
+            hidden: 128,
+            conditioning: vec![CondChannel::GreyB, CondChannel::G],
             perception: PerceptionImpl::default(),
-            seed_amplitude: default_seed_amplitude(),
+            seed_amplitude: 0.05,
             grain_noise: GrainNoiseSpec::default(),
         }
     }
@@ -345,21 +303,21 @@ impl ModelSpec {
 }
 
 impl TrainConfig {
-    /// Loads and validates a training config file.
-    pub fn load(path: &Path) -> Result<Self> {
-        let cfg: TrainConfig = load_toml(path)?;
-        cfg.validate(&Checker::new(path))?;
-        Ok(cfg)
+    /// Learning rate at `iteration` (0-based): multiplied by `decay_factor` at each
+    /// `decay_at` iteration reached.
+    pub fn learning_rate(&self, iteration: usize) -> f64 {
+        let decays = self
+            .schedule
+            .decay_at
+            .iter()
+            .filter(|&&at| iteration >= at)
+            .count();
+        self.schedule.learning_rate * self.schedule.decay_factor.powi(decays as i32)
     }
+}
 
-    /// Parses and validates TOML text (`origin` names it in errors).
-    pub fn parse(text: &str, origin: &Path) -> Result<Self> {
-        let cfg: TrainConfig = parse_toml(text, origin)?;
-        cfg.validate(&Checker::new(origin))?;
-        Ok(cfg)
-    }
-
-    pub fn validate(&self, check: &Checker) -> Result<()> {
+impl ConfigFile for TrainConfig {
+    fn validate(&self, check: &Checker) -> Result<()> {
         self.model.validate(&check.nested("model"))?;
         let v = check.nested("volume");
         v.count("size", self.volume.size, 4, 1024, "training volume side")?;
@@ -469,18 +427,6 @@ impl TrainConfig {
             1_000_000,
             "iterations between checkpoints",
         )
-    }
-
-    /// Learning rate at `iteration` (0-based): multiplied by `decay_factor` at each
-    /// `decay_at` iteration reached.
-    pub fn learning_rate(&self, iteration: usize) -> f64 {
-        let decays = self
-            .schedule
-            .decay_at
-            .iter()
-            .filter(|&&at| iteration >= at)
-            .count();
-        self.schedule.learning_rate * self.schedule.decay_factor.powi(decays as i32)
     }
 }
 

@@ -21,6 +21,7 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use super::conditioning::Conditioning;
+use crate::config::ConfigFile;
 use crate::config::{Checker, load_toml, parse_toml, write_config_copy};
 use crate::error::{Result, XylemError};
 use crate::field::{BaseColourTexture, ColourSpace, FieldConfig, GrowthField, ring_intensity};

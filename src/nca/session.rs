@@ -17,6 +17,7 @@ use super::model_dir::{ModelMeta, WEIGHTS_FILE, save_weights, weights_hash};
 use super::plot::loss_plot;
 use super::snapshot;
 use super::train::{TrainData, Trainer, check_data};
+use crate::config::ConfigFile;
 use crate::config::write_config_copy;
 use crate::device::DeviceKind;
 use crate::error::{Result, XylemError};

@@ -4,6 +4,7 @@
 
 use std::path::Path;
 
+use crate::config::ConfigFile;
 use crate::field::{BaseColourTexture, ColourSpace, FieldConfig, GrowthField};
 use crate::frame::Face;
 use crate::image2::Image2;

@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use super::reporter::Reporter;
 use crate::Result;
+use crate::config::ConfigFile;
 use crate::device::DeviceKind;
 use crate::frame::Face;
 use crate::io::{OutputDir, Provenance};

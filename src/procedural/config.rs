@@ -9,8 +9,6 @@
 //! Physical sizes are given in millimetres (`*_mm` keys) and converted with
 //! 1 cube unit = `frame::CM_PER_UNIT` cm = 40 mm. Colours are display-referred sRGB in [0, 1].
 
-use std::path::Path;
-
 use serde::{Deserialize, Serialize};
 
 use super::burl::BurlConfig;
@@ -21,7 +19,7 @@ use super::pigment::PigmentConfig;
 use super::pores::PoreConfig;
 use super::rays::RayConfig;
 use super::rings::RingConfig;
-use crate::config::{Checker, load_toml, parse_toml};
+use crate::config::{Checker, ConfigFile};
 use crate::error::Result;
 use crate::field::{FieldConfig, GrowthConfig, KnotConfig, PithConfig};
 
@@ -63,20 +61,6 @@ pub struct SpeciesConfig {
 }
 
 impl SpeciesConfig {
-    /// Loads and validates a species file.
-    pub fn load(path: &Path) -> Result<Self> {
-        let cfg: SpeciesConfig = load_toml(path)?;
-        cfg.validate(&Checker::new(path))?;
-        Ok(cfg)
-    }
-
-    /// Parses and validates TOML text (`origin` names it in errors).
-    pub fn parse(text: &str, origin: &Path) -> Result<Self> {
-        let cfg: SpeciesConfig = parse_toml(text, origin)?;
-        cfg.validate(&Checker::new(origin))?;
-        Ok(cfg)
-    }
-
     /// The growth field of this species, as `xylem field --config` reads it.
     pub fn field_config(&self) -> FieldConfig {
         FieldConfig {
@@ -86,8 +70,10 @@ impl SpeciesConfig {
             base_colour: None,
         }
     }
+}
 
-    pub fn validate(&self, check: &Checker) -> Result<()> {
+impl ConfigFile for SpeciesConfig {
+    fn validate(&self, check: &Checker) -> Result<()> {
         self.field_config().validate(check)?;
         self.rings.validate(&check.nested("rings"))?;
         if let Some(p) = &self.pigment {

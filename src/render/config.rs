@@ -1,12 +1,10 @@
 //! The render config (`configs/render/default.toml`, also built in).
 
-use std::path::Path;
-
 use serde::{Deserialize, Serialize};
 
 use super::camera::CameraConfig;
 use super::shading::{LightConfig, MaterialConfig};
-use crate::config::{Checker, load_toml, parse_toml};
+use crate::config::{Checker, ConfigFile};
 use crate::error::Result;
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -43,23 +41,14 @@ pub struct CarveConfig {
 pub const DEFAULT_RENDER: &str = include_str!("../../configs/render/default.toml");
 
 impl RenderConfig {
-    pub fn load(path: &Path) -> Result<Self> {
-        let cfg: RenderConfig = load_toml(path)?;
-        cfg.validate(&Checker::new(path))?;
-        Ok(cfg)
-    }
-
     /// The built-in default (same as `configs/render/default.toml`).
     pub fn default_config() -> Self {
-        let origin = Path::new("<built-in configs/render/default.toml>");
-        let cfg: RenderConfig =
-            parse_toml(DEFAULT_RENDER, origin).expect("built-in render config parses");
-        cfg.validate(&Checker::new(origin))
-            .expect("built-in render config is valid");
-        cfg
+        Self::built_in(DEFAULT_RENDER, "<built-in configs/render/default.toml>")
     }
+}
 
-    pub fn validate(&self, check: &Checker) -> Result<()> {
+impl ConfigFile for RenderConfig {
+    fn validate(&self, check: &Checker) -> Result<()> {
         for (name, cam) in [("camera", &self.camera), ("mesh_camera", &self.mesh_camera)] {
             let c = check.nested(name);
             c.vector("eye", cam.eye, 1000.0, "a camera position")?;

@@ -7,6 +7,7 @@ use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
+use xylem::config::ConfigFile;
 
 /// No single xylem call of the suite may take longer (the "hang").
 pub const TIME_LIMIT: Duration = Duration::from_secs(30);
