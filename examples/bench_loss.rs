@@ -16,7 +16,7 @@ use burn::tensor::{Device, Distribution, Tensor};
 use xylem::Image2;
 use xylem::device::DeviceKind;
 use xylem::io::load_rgb;
-use xylem::loss::{LossConfig, StyleLoss, white_balance};
+use xylem::loss::{LossConfig, StyleLoss};
 use xylem::metrics::Comparer;
 
 /// Process CPU time (user + system) in seconds, from /proc/self/stat.
@@ -43,7 +43,9 @@ fn faces() -> Vec<Image2> {
         .iter()
         .map(|f| {
             let path = dir.join("CN03").join(format!("{f}_col.png"));
-            white_balance(&load_rgb(&path).expect("CN03 face (set XYLEM_MOKUME_DIR)"))
+            load_rgb(&path)
+                .expect("CN03 face (set XYLEM_MOKUME_DIR)")
+                .white_balanced()
         })
         .collect()
 }

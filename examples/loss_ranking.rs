@@ -11,7 +11,7 @@ use burn::tensor::Device;
 use xylem::Image2;
 use xylem::config::ConfigFile;
 use xylem::io::load_rgb;
-use xylem::loss::{LossConfig, StyleLoss, image_to_tensor, white_balance};
+use xylem::loss::{LossConfig, StyleLoss, image_to_tensor};
 
 fn main() {
     let dir = std::env::var_os("XYLEM_MOKUME_DIR")
@@ -28,7 +28,9 @@ fn main() {
     let faces: Vec<Image2> = names
         .iter()
         .map(|(c, f)| {
-            white_balance(&load_rgb(&dir.join(c).join(format!("{f}_col.png"))).expect("face"))
+            load_rgb(&dir.join(c).join(format!("{f}_col.png")))
+                .expect("face")
+                .white_balanced()
         })
         .collect();
     let device = Device::flex();

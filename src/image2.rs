@@ -213,6 +213,24 @@ impl Image2 {
         sums.into_iter().map(|s| (s / n) as f32).collect()
     }
 
+    /// Each channel divided by twice its entry of `means` (DESIGN section 6, white balance: an
+    /// image whose channel means these are then averages 0.5); means below
+    /// [`MIN_BALANCE_MEAN`] are raised to it, so a black image does not divide by zero.
+    pub fn balanced(&self, means: &[f32]) -> Image2 {
+        let mut out = self.clone();
+        for px in out.data.chunks_exact_mut(self.channels) {
+            for (v, m) in px.iter_mut().zip(means) {
+                *v /= 2.0 * m.max(MIN_BALANCE_MEAN);
+            }
+        }
+        out
+    }
+
+    /// The image white-balanced by its own channel means.
+    pub fn white_balanced(&self) -> Image2 {
+        self.balanced(&self.channel_means())
+    }
+
     /// The image resampled to `width` x `height`: each output pixel averages the input pixels
     /// its footprint covers (a box filter, so downscaling does not alias; upscaling repeats
     /// pixels).
@@ -241,6 +259,9 @@ impl Image2 {
         out
     }
 }
+
+/// Smallest channel mean a white balance divides by.
+pub const MIN_BALANCE_MEAN: f32 = 1e-3;
 
 /// Input index range covered by output index `i` at `scale` input pixels per output pixel.
 fn span(i: usize, scale: f32, len: usize) -> (usize, usize) {

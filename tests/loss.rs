@@ -8,7 +8,7 @@ use xylem::Image2;
 use xylem::config::ConfigFile;
 use xylem::config::{Checker, parse_toml};
 use xylem::io::load_rgb;
-use xylem::loss::{LossConfig, Nonlinearity, StyleLoss, image_to_tensor, white_balance};
+use xylem::loss::{LossConfig, Nonlinearity, StyleLoss, image_to_tensor};
 
 /// A small deterministic wood-like image: diagonal bands with dots, in brown tones.
 fn banded(w: usize, h: usize, phase: f32) -> Image2 {
@@ -311,7 +311,9 @@ fn loss_ranks_real_photos_same_wood_closer_than_the_other_cube() {
         return;
     };
     let load = |cube: &str, face: &str| {
-        white_balance(&load_rgb(&dir.join(cube).join(format!("{face}_col.png"))).unwrap())
+        load_rgb(&dir.join(cube).join(format!("{face}_col.png")))
+            .unwrap()
+            .white_balanced()
     };
     let device = Device::flex();
     let loss = StyleLoss::new(&LossConfig::default_config(), &device);

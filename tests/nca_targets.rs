@@ -1,7 +1,7 @@
 //! Training targets: area resampling to the training grid and white balance.
 
 use xylem::Image2;
-use xylem::nca::targets::{resample, white_balance};
+use xylem::nca::targets::resample;
 
 #[test]
 fn shrinking_averages_blocks_and_keeps_the_mean() {
@@ -23,7 +23,7 @@ fn white_balance_puts_every_channel_mean_at_one_half() {
         .map(|v| 0.1 + (v % 7) as f32 * 0.05)
         .collect();
     let img = Image2::from_data(4, 4, 3, data).unwrap();
-    for m in white_balance(&img).channel_means() {
+    for m in img.white_balanced().channel_means() {
         assert!((m - 0.5).abs() < 1e-5, "{m}");
     }
 }

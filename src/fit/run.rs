@@ -23,7 +23,7 @@ use super::metrics::iso_error_mm;
 use super::pith_descent::descend;
 use super::pith_search::{axes_differ, axis_loss, search};
 use super::ring_peaks::{median_spacing, profile_peaks};
-use super::white_balance::{balance, white_balance};
+use super::white_balance::white_balance;
 use crate::config::Checker;
 use crate::config::ConfigFile;
 use crate::error::{Result, XylemError};
@@ -170,7 +170,7 @@ fn fit_colour(
     let balanced: [Option<Image2>; 6] = std::array::from_fn(|f| {
         sample.photos[f]
             .as_ref()
-            .map(|p| balance(p, wb.face_means[f]))
+            .map(|p| p.with_channels(3).balanced(&wb.face_means[f]))
     });
     let iterations = cfg.colour.iterations;
     fit_base_colour(

@@ -4,26 +4,12 @@
 
 use crate::field::WhiteBalance;
 use crate::frame::Face;
-use crate::image2::Image2;
-
-/// Smallest mean accepted per channel (a black photo must not divide by zero).
-const MIN_MEAN: f32 = 1e-3;
+use crate::image2::{Image2, MIN_BALANCE_MEAN as MIN_MEAN};
 
 /// Mean RGB of a photo, each channel at least `MIN_MEAN`.
 pub fn photo_mean(photo: &Image2) -> [f32; 3] {
     let m = photo.with_channels(3).channel_means();
     std::array::from_fn(|c| m[c].max(MIN_MEAN))
-}
-
-/// The white-balanced photo.
-pub fn balance(photo: &Image2, mean: [f32; 3]) -> Image2 {
-    let mut out = photo.with_channels(3);
-    for px in out.data.chunks_exact_mut(3) {
-        for c in 0..3 {
-            px[c] /= 2.0 * mean[c];
-        }
-    }
-    out
 }
 
 /// White-balance data of the photos of `faces` (`photos` indexed by `Face::index`); faces

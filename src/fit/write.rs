@@ -9,8 +9,6 @@
 //! - `cuts/cut1_arl.png`, `cut2_arl.png`, `cut1_base.png`, `cut2_base.png`;
 //! - `sheet.png` (see `sheet`), `loss.csv` (stage, iteration, total, iso, image, smooth).
 
-use std::fmt::Write as _;
-
 use super::config::FitConfig;
 use super::run::FitResult;
 use super::sheet::{SheetRow, fit_sheet};
@@ -20,6 +18,7 @@ use crate::field::{BaseColourTexture, ColourSpace, GrowthField, RingImage};
 use crate::frame::{Face, Plane};
 use crate::image2::Image2;
 use crate::io::{OutputDir, save_png, write_bytes_atomic};
+use crate::report::MetricsTable;
 use crate::slice::{slice_face, slice_plane};
 
 /// Photos and target ring images to show in the sheet, indexed by `Face::index` (faces the fit
@@ -83,14 +82,21 @@ pub fn write_fit(
 
 /// `loss.csv`: one row per logged iteration.
 pub fn loss_csv(result: &FitResult) -> String {
-    let mut csv = String::from("stage,iteration,total,iso,image,smooth\n");
-    for row in &result.loss_log {
-        let p = &row.parts;
-        let _ = writeln!(
-            csv,
-            "{},{},{},{},{},{}",
-            row.stage, row.iteration, p.total, p.iso, p.image, p.smooth
-        );
-    }
-    csv
+    let header = ["stage", "iteration", "total", "iso", "image", "smooth"];
+    let rows = result
+        .loss_log
+        .iter()
+        .map(|row| {
+            let p = &row.parts;
+            vec![
+                row.stage.to_string(),
+                row.iteration.to_string(),
+                p.total.to_string(),
+                p.iso.to_string(),
+                p.image.to_string(),
+                p.smooth.to_string(),
+            ]
+        })
+        .collect();
+    MetricsTable::new(&header, rows).to_csv()
 }

@@ -1,5 +1,5 @@
 //! Images into loss inputs and back: `Image2` (`[H, W, C]`, interleaved) <-> burn tensors
-//! `[3, H, W]` (planar), and the white balance the NCA targets use.
+//! `[3, H, W]` (planar).
 
 use burn::tensor::{Device, Tensor, TensorData};
 
@@ -43,17 +43,4 @@ pub fn tensor_values<const D: usize>(t: Tensor<D>) -> Result<Vec<f32>> {
         .convert::<f32>()
         .try_into_vec::<f32>()
         .map_err(|e| XylemError::numeric("tensor readback", format!("{e:?}")))
-}
-
-/// The NCA's target normalisation (shared DESIGN section 6): each channel divided by twice
-/// its mean, so the image averages 0.5 grey whatever the photo's colour and exposure.
-pub fn white_balance(img: &Image2) -> Image2 {
-    let means = img.channel_means();
-    let mut out = img.clone();
-    for px in out.data.chunks_exact_mut(img.channels) {
-        for (v, m) in px.iter_mut().zip(&means) {
-            *v /= 2.0 * m.max(1e-6);
-        }
-    }
-    out
 }

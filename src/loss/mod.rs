@@ -42,6 +42,6 @@ pub mod texture2d;
 pub use config::{LossConfig, Nonlinearity};
 pub use guided::{GuidedLoss, GuidedPatch, GuidedTarget, GuidedTerms};
 pub use guided_config::GuidedConfig;
-pub use image_tensor::{image_to_tensor, tensor_to_image, white_balance};
+pub use image_tensor::{image_to_tensor, tensor_to_image};
 pub use style::{LossTerms, StyleLoss, StyleTargets};
 pub use texture2d::{Synthesis, Texture2dConfig, synthesize};

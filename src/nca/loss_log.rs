@@ -3,11 +3,11 @@
 //! Only deterministic values are logged (no wall-clock times), so a resumed run writes the
 //! very same file as an uninterrupted one; speed is shown on the progress bar instead.
 
-use std::fmt::Write as _;
 use std::path::Path;
 
 use crate::error::{Result, XylemError};
 use crate::io::write_bytes_atomic;
+use crate::report::MetricsTable;
 
 /// One iteration's figures.
 #[derive(Clone, Debug, PartialEq)]
@@ -25,16 +25,21 @@ const HEADER: &str = "iteration,steps,loss,style,overflow,learning_rate";
 
 /// The log as CSV text (floats printed exactly, shortest round-trip form).
 pub fn to_csv(rows: &[LossRow]) -> String {
-    let mut out = String::from(HEADER);
-    out.push('\n');
-    for r in rows {
-        let _ = writeln!(
-            out,
-            "{},{},{},{},{},{}",
-            r.iteration, r.steps, r.loss, r.style, r.overflow, r.learning_rate
-        );
-    }
-    out
+    let rows = rows
+        .iter()
+        .map(|r| {
+            vec![
+                r.iteration.to_string(),
+                r.steps.to_string(),
+                r.loss.to_string(),
+                r.style.to_string(),
+                r.overflow.to_string(),
+                r.learning_rate.to_string(),
+            ]
+        })
+        .collect();
+    let header: Vec<&str> = HEADER.split(',').collect();
+    MetricsTable::new(&header, rows).to_csv()
 }
 
 /// Writes `loss.csv` atomically.

@@ -8,7 +8,6 @@
 use super::conditioning::Normalisation;
 use crate::frame::Face;
 use crate::image2::Image2;
-pub use crate::loss::white_balance;
 use crate::sample::Sample;
 use crate::slice::slice_face;
 use crate::texture::SolidTexture;
@@ -19,7 +18,7 @@ pub fn face_targets(sample: &Sample, size: usize) -> ([Option<Image2>; 6], [f32;
     let targets = Face::ALL.map(|face| {
         sample
             .photo(face)
-            .map(|photo| white_balance(&resample(photo, size)))
+            .map(|photo| resample(photo, size).white_balanced())
     });
     (targets, photo_mean(sample))
 }

@@ -15,6 +15,14 @@ pub struct MetricsTable {
 }
 
 impl MetricsTable {
+    /// A table of `header` and `rows` (each as long as the header).
+    pub fn new(header: &[&str], rows: Vec<Vec<String>>) -> Self {
+        Self {
+            header: header.iter().map(|h| h.to_string()).collect(),
+            rows,
+        }
+    }
+
     pub fn read(path: &Path) -> Result<Self> {
         let text = std::fs::read_to_string(path).map_err(|e| XylemError::io(path, e))?;
         Self::parse(&text).map_err(|message| XylemError::input(path.display().to_string(), message))

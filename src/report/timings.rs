@@ -78,12 +78,19 @@ impl Timings {
     }
 
     pub fn to_csv(&self) -> String {
-        let mut csv = HEADER.join(",") + "\n";
-        for s in &self.stages {
-            let peak = s.peak_mb.map(|m| format!("{m:.1}")).unwrap_or_default();
-            csv += &format!("{},{:.3},{peak},{}\n", s.stage, s.seconds, s.skipped);
-        }
-        csv
+        let rows = self
+            .stages
+            .iter()
+            .map(|s| {
+                vec![
+                    s.stage.clone(),
+                    format!("{:.3}", s.seconds),
+                    s.peak_mb.map(|m| format!("{m:.1}")).unwrap_or_default(),
+                    s.skipped.to_string(),
+                ]
+            })
+            .collect();
+        MetricsTable::new(&HEADER, rows).to_csv()
     }
 
     /// Adds (or replaces) the row of `timing`'s stage. A skipped stage takes the row of
