@@ -11,6 +11,7 @@ use super::cond_channel::CondChannel;
 use super::grain_noise::GrainNoiseSpec;
 use super::perception::{FILTERS, POSITION_CHANNELS, PerceptionImpl};
 use super::placement::Placement;
+use super::readout::Readout;
 use crate::config::{Checker, ConfigFile};
 use crate::error::Result;
 use crate::loss::{GuidedConfig, LossConfig};
@@ -52,6 +53,9 @@ pub struct ModelSpec {
     pub seed_amplitude: f32,
     /// Cell sizes of the `grain_noise` conditioning channel.
     pub grain_noise: GrainNoiseSpec,
+    /// How the colour is read from the state: `residual` (B + state RGB) or `bounded`
+    /// (the same, softly bounded to [0, 1] in photo colour; `readout.rs`).
+    pub readout: Readout,
 }
 
 /// The training grid and the part of it each iteration unrolls.
@@ -254,6 +258,7 @@ impl Default for ModelSpec {
             perception: PerceptionImpl::default(),
             seed_amplitude: 0.05,
             grain_noise: GrainNoiseSpec::default(),
+            readout: Readout::default(),
         }
     }
 }

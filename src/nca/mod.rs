@@ -57,6 +57,7 @@ pub mod perception;
 pub mod placement;
 pub mod plot;
 pub mod pool;
+pub mod readout;
 pub mod region;
 pub mod session;
 pub mod snapshot;

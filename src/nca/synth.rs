@@ -21,6 +21,7 @@ use super::fused::{FixedInputs, Isa, MlpWeights, Stepper};
 use super::grain_noise::cell_scale;
 use super::model::StepInputs;
 use super::model_dir::TrainedModel;
+use super::readout::Readout;
 use super::region::Region;
 use super::targets::to_photo_colour;
 use super::tensors::tensor_to_volume;
@@ -99,7 +100,8 @@ pub fn synthesise(
         options.slab_voxels,
         progress,
     );
-    let rgb = state.narrow(0, 0, 3) + norm.colour_tensor(&vols, device);
+    let sum = state.narrow(0, 0, 3) + norm.colour_tensor(&vols, device);
+    let rgb = spec.readout.white_balanced(sum, norm.white_balance, device);
     let mut volume = tensor_to_volume(rgb)?;
     for px in volume.data.chunks_exact_mut(3) {
         to_photo_colour(norm, px);
@@ -157,16 +159,23 @@ pub fn synthesise_at(
     for &target in at {
         state = stepper.unroll(state, target - done, |s| progress(done + s));
         done = target;
-        volumes.push(colour_volume(&state, &colour, norm, region.dims)?);
+        volumes.push(colour_volume(
+            &state,
+            &colour,
+            norm,
+            spec.readout,
+            region.dims,
+        )?);
     }
     Ok(volumes)
 }
 
-/// `[X, Y, Z, 3]` = white-balanced B + state RGB, back to photo colours.
+/// `[X, Y, Z, 3]` = white-balanced B + state RGB, back to photo colours, read out.
 fn colour_volume(
     state: &[f32],
     colour: &[f32],
     norm: &super::conditioning::Normalisation,
+    readout: Readout,
     dims: [usize; 3],
 ) -> Result<Volume> {
     let n = dims.iter().product::<usize>();
@@ -176,6 +185,9 @@ fn colour_volume(
             *value = state[c * n + v] + colour[c * n + v];
         }
         to_photo_colour(norm, px);
+        for value in px.iter_mut() {
+            *value = readout.photo(*value);
+        }
     }
     Volume::from_data(dims, 3, data)
 }

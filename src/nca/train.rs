@@ -29,6 +29,7 @@ use super::loss_log::LossRow;
 use super::model::{Nca, StepInputs};
 use super::placement::draw_region;
 use super::pool::{Pool, Start};
+use super::readout::Readout;
 use super::region::Region;
 use super::targets::{face_targets, match_base_means};
 use super::tensors::{tensor_from, to_vec};
@@ -104,6 +105,8 @@ struct RegionInputs {
     colour: Tensor<4>,
     /// Ring-phase guide over the region, `[2, X, Y, Z]` (planes inside the crop).
     guide: Tensor<4>,
+    /// The colour readout and the photo -> white-balanced factor it needs.
+    readout: (Readout, [f32; 3]),
 }
 
 /// What an iteration starts from.
@@ -348,6 +351,7 @@ fn region_inputs(
         step,
         faces,
         colour,
+        readout: (cfg.model.readout, data.normalisation.white_balance),
         guide,
     })
 }
@@ -400,7 +404,9 @@ fn objective(
     depths: &[usize],
     overflow_weight: f32,
 ) -> Objective {
-    let rgb = state.clone().narrow(0, 0, 3) + inputs.colour.clone(); // [3, X, Y, Z]
+    let (readout, white_balance) = inputs.readout;
+    let sum = state.clone().narrow(0, 0, 3) + inputs.colour.clone(); // [3, X, Y, Z]
+    let rgb = readout.white_balanced(sum, white_balance, &state.device());
     let mut faces: Vec<FacePatch> = face_patches(&rgb, &inputs.region, &inputs.faces);
     for &depth in depths {
         faces.extend(inner_patches(

@@ -1,0 +1,108 @@
+//! How a voxel's colour is read from the NCA state: the RGB residual on B, as the Mokume
+//! authors do, or the same sum passed through a soft bound that keeps every colour inside
+//! [0, 1] however the state drifts (issue 12: stable by construction, not by clamping).
+//!
+//! The bound acts in photo colour, where [0, 1] is what a PNG or a renderer can show:
+//! p = 0.5 + 0.5 tanh(2x - 1) for the photo-colour sum x. Its slope is 1 at mid-grey, so
+//! the middle of the range is nearly unchanged, and it approaches 0 and 1 only
+//! asymptotically; training sees the same map, so the state learns whatever sum gives the
+//! colour it wants.
+
+use burn::tensor::{Device, Tensor};
+use serde::{Deserialize, Serialize};
+
+use super::tensors::tensor_from;
+
+/// The readout of the colour (`model.readout`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Readout {
+    /// RGB = B + state[0..3] (white-balanced), unbounded: the authors' readout, and that of
+    /// every model trained before the bound existed.
+    #[default]
+    Residual,
+    /// The same sum, softly bounded to (0, 1) in photo colour.
+    Bounded,
+}
+
+impl Readout {
+    /// The photo colour of the photo-colour sum `x` (one channel).
+    pub fn photo(self, x: f32) -> f32 {
+        match self {
+            Readout::Residual => x,
+            Readout::Bounded => 0.5 + 0.5 * (2.0 * x - 1.0).tanh(),
+        }
+    }
+
+    /// The white-balanced colour `[3, X, Y, Z]` of the white-balanced sum B + state RGB,
+    /// differentiable; `white_balance` is the factor from photo to white-balanced colour.
+    pub fn white_balanced(
+        self,
+        sum: Tensor<4>,
+        white_balance: [f32; 3],
+        device: &Device,
+    ) -> Tensor<4> {
+        match self {
+            Readout::Residual => sum,
+            Readout::Bounded => {
+                let [c, x, y, z] = sum.dims();
+                let per_channel = |f: &dyn Fn(f32) -> f32| {
+                    let n = x * y * z;
+                    let data = (0..c).flat_map(|ch| std::iter::repeat_n(f(white_balance[ch]), n));
+                    tensor_from(data.collect(), [c, x, y, z], device)
+                };
+                let to_photo = per_channel(&|wb| 1.0 / wb);
+                let to_balanced = per_channel(&|wb| wb);
+                let photo = sum * to_photo;
+                let bounded = (photo.mul_scalar(2.0).sub_scalar(1.0))
+                    .tanh()
+                    .mul_scalar(0.5)
+                    .add_scalar(0.5);
+                bounded * to_balanced
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use burn::tensor::Device;
+
+    use super::*;
+    use crate::nca::tensors::to_vec;
+
+    #[test]
+    fn bounded_colour_stays_inside_zero_one_and_keeps_mid_grey() {
+        for x in [-1e6_f32, -50.0, -1.0, 0.0, 0.25, 0.5, 0.75, 1.0, 3.0, 1e6] {
+            let p = Readout::Bounded.photo(x);
+            assert!((0.0..=1.0).contains(&p), "{x} -> {p}");
+            assert_eq!(Readout::Residual.photo(x), x);
+        }
+        assert!((Readout::Bounded.photo(0.5) - 0.5).abs() < 1e-7);
+        // Slope 1 at mid-grey: a small change there passes through unchanged.
+        let slope = (Readout::Bounded.photo(0.501) - Readout::Bounded.photo(0.499)) / 0.002;
+        assert!((slope - 1.0).abs() < 1e-3, "{slope}");
+        // Increasing, so every colour in (0, 1) has one sum that makes it.
+        let xs: Vec<f32> = (-20..=40).map(|i| i as f32 * 0.05).collect();
+        let ps: Vec<f32> = xs.iter().map(|&x| Readout::Bounded.photo(x)).collect();
+        assert!(ps.windows(2).all(|w| w[0] < w[1]), "{ps:?}");
+    }
+
+    /// Training (burn, white-balanced) and synthesis (plain, photo colour) read the same
+    /// colour from the same sum.
+    #[test]
+    fn tensor_readout_matches_the_per_value_one() {
+        let device = Device::flex();
+        let wb = [0.8_f32, 0.9, 1.1];
+        let sums: Vec<f32> = (0..3 * 8).map(|i| (i as f32 - 9.0) * 0.11).collect();
+        let tensor = tensor_from(sums.clone(), [3, 2, 2, 2], &device);
+        for readout in [Readout::Residual, Readout::Bounded] {
+            let got = to_vec(readout.white_balanced(tensor.clone(), wb, &device)).unwrap();
+            for (i, (&sum, &g)) in sums.iter().zip(&got).enumerate() {
+                let wb = wb[i / 8];
+                let want = readout.photo(sum / wb) * wb;
+                assert!((g - want).abs() < 1e-5, "{readout:?} {i}: {g} vs {want}");
+            }
+        }
+    }
+}
