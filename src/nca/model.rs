@@ -10,7 +10,7 @@
 //! The inputs are laid out as `[perceive(state) (5 x 12) | perceive(cond) (5 x K) | pos (3)]`;
 //! the last two do not change during an unroll and are computed once ([`StepInputs`]).
 
-use burn::module::{Module, Param};
+use burn::module::{Module, Param, ParamId};
 use burn::tensor::activation::relu;
 use burn::tensor::{Device, Tensor};
 
@@ -78,9 +78,9 @@ impl Nca {
         let mut rng = Rng::substream(seed, 0x4E43_415F_494E_4954); // "NCA_INIT"
         let w1: Vec<f32> = (0..h * i).map(|_| std * rng.normal()).collect();
         Self {
-            w1: Param::from_tensor(tensor_from(w1, [h, i], device)),
-            b1: Param::from_tensor(Tensor::zeros([h], device)),
-            w2: Param::from_tensor(Tensor::zeros([c, h], device)),
+            w1: fixed_id(Param::from_tensor(tensor_from(w1, [h, i], device)), 1),
+            b1: fixed_id(Param::from_tensor(Tensor::zeros([h], device)), 2),
+            w2: fixed_id(Param::from_tensor(Tensor::zeros([c, h], device)), 3),
         }
     }
 
@@ -124,4 +124,12 @@ impl Nca {
             && self.b1.dims() == [spec.hidden]
             && self.w2.dims() == [spec.state_channels, spec.hidden]
     }
+}
+
+/// The parameter with a fixed id: burn draws ids at random and writes them into model.bpk,
+/// so two identical trainings wrote different files (and weight hashes); ids only need to be
+/// unique within the model.
+fn fixed_id<const D: usize>(mut param: Param<Tensor<D>>, id: u64) -> Param<Tensor<D>> {
+    param.id = ParamId::from(id);
+    param
 }
