@@ -88,24 +88,20 @@ fn open(path: &Path) -> Result<DynamicImage> {
 pub fn load_rgb(path: &Path) -> Result<Image2> {
     let img = open(path)?.to_rgb8();
     let (w, h) = img.dimensions();
-    let data = img
-        .into_raw()
-        .into_iter()
-        .map(|b| b as f32 / 255.0)
-        .collect();
-    Image2::from_data(w as usize, h as usize, 3, data)
+    from_bytes(w, h, 3, img.into_raw())
 }
 
 /// Reads a PNG as one grey channel in [0, 1] (colour images are converted to luma).
 pub fn load_gray(path: &Path) -> Result<Image2> {
     let img = open(path)?.to_luma8();
     let (w, h) = img.dimensions();
-    let data = img
-        .into_raw()
-        .into_iter()
-        .map(|b| b as f32 / 255.0)
-        .collect();
-    Image2::from_data(w as usize, h as usize, 1, data)
+    from_bytes(w, h, 1, img.into_raw())
+}
+
+/// 8-bit samples as an image in [0, 1].
+fn from_bytes(width: u32, height: u32, channels: usize, bytes: Vec<u8>) -> Result<Image2> {
+    let data = bytes.into_iter().map(|b| b as f32 / 255.0).collect();
+    Image2::from_data(width as usize, height as usize, channels, data)
 }
 
 /// Checks that an image is square with side `n` (or any square size if `n` is `None`).
