@@ -17,7 +17,6 @@ use xylem::nca::synth::{SynthOptions, ValueRange, synthesise_at};
 use xylem::slice::slice_plane;
 
 fn main() -> xylem::Result<()> {
-    xylem::nca::denormals::flush_denormals_to_zero();
     let mut args: Vec<String> = std::env::args().skip(1).collect();
     let out = args.iter().position(|a| a == "--out").map(|i| {
         let dir = std::path::PathBuf::from(args.get(i + 1).expect("--out DIR"));

@@ -128,6 +128,7 @@ pub fn synthesise_at(
     at: &[usize],
     mut progress: impl FnMut(usize),
 ) -> Result<Vec<Volume>> {
+    super::denormals::flush_denormals_to_zero();
     check_synthesis_memory(options.size)?;
     if at.windows(2).any(|w| w[0] > w[1]) {
         return Err(crate::XylemError::input(
