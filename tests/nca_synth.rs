@@ -2,6 +2,8 @@
 //! colour B exactly, in photo colours and in the volume axis order, with both engines; a
 //! trained-like model gives the same volume with both.
 
+mod common;
+
 use burn::module::Param;
 use burn::tensor::Device;
 use xylem::field::{BaseColour, FieldConfig, WhiteBalance};
@@ -143,12 +145,7 @@ fn fused_and_burn_synthesis_agree() {
     let base = run_identity(&trained, &device);
     let change: Vec<f32> = burn.data.iter().zip(&base).map(|(a, b)| a - b).collect();
     let scale = change.iter().map(|v| v.abs()).fold(0.0f32, f32::max);
-    let worst = fused
-        .data
-        .iter()
-        .zip(&burn.data)
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0f32, f32::max);
+    let worst = common::max_abs_diff(&fused.data, &burn.data);
     assert!(scale > 0.01, "the model must change the colours ({scale})");
     assert!(
         worst <= 1e-5 * scale,

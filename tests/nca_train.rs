@@ -530,12 +530,7 @@ fn bounded_readout_run(readout: &str) {
     // Both engines read the colour the same way (over a few steps: this fast-trained rule
     // amplifies float rounding over long unrolls).
     let (fused, burn) = (volume(Engine::Fused, 2), volume(Engine::Burn, 2));
-    let worst = fused
-        .data
-        .iter()
-        .zip(&burn.data)
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0f32, f32::max);
+    let worst = common::max_abs_diff(&fused.data, &burn.data);
     assert!(worst < 1e-4, "fused and burn readouts differ by {worst}");
 }
 

@@ -184,3 +184,12 @@ pub fn run_python(python: &std::path::Path, script: &str, args: &[&str]) -> Stri
     );
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
+
+/// The largest absolute difference between two equally long lists of values.
+pub fn max_abs_diff(a: &[f32], b: &[f32]) -> f32 {
+    assert_eq!(a.len(), b.len(), "compared lists differ in length");
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0f32, f32::max)
+}
