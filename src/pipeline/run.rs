@@ -28,7 +28,8 @@ use crate::texture::SolidTexture;
 /// What a finished run measured.
 #[derive(Clone, Debug)]
 pub struct RunOutcome {
-    /// This call's stages (skipped ones marked).
+    /// The stages' cost: a skipped stage keeps the row of the call that ran it (as
+    /// `timings.csv` does).
     pub timings: Timings,
     /// Every method against every fair reference (`metrics.csv`).
     pub metrics: MetricsTable,
