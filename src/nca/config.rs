@@ -53,8 +53,8 @@ pub struct ModelSpec {
     pub seed_amplitude: f32,
     /// Cell sizes of the `grain_noise` conditioning channel.
     pub grain_noise: GrainNoiseSpec,
-    /// How the colour is read from the state: `residual` (B + state RGB) or `bounded`
-    /// (the same, softly bounded to [0, 1] in photo colour; `readout.rs`).
+    /// How the colour is read from the state: `residual` (B + state RGB), or `bounded` /
+    /// `saturating` (the same, softly bounded to [0, 1] in photo colour; `readout.rs`).
     pub readout: Readout,
 }
 

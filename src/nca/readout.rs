@@ -2,11 +2,10 @@
 //! authors do, or the same sum passed through a soft bound that keeps every colour inside
 //! [0, 1] however the state drifts (issue 12: stable by construction, not by clamping).
 //!
-//! The bound acts in photo colour, where [0, 1] is what a PNG or a renderer can show:
-//! p = 0.5 + 0.5 tanh(2x - 1) for the photo-colour sum x. Its slope is 1 at mid-grey, so
-//! the middle of the range is nearly unchanged, and it approaches 0 and 1 only
-//! asymptotically; training sees the same map, so the state learns whatever sum gives the
-//! colour it wants.
+//! The bounds act in photo colour, where [0, 1] is what a PNG or a renderer can show: a tanh
+//! (`bounded`) or a softplus corner at each end (`saturating`) of the photo-colour sum x,
+//! both increasing and approaching 0 and 1 only asymptotically. Training sees the same map,
+//! so the state learns whatever sum gives the colour it wants.
 
 use burn::tensor::activation::softplus as softplus_tensor;
 use burn::tensor::{Device, Tensor};
@@ -68,15 +67,9 @@ impl Readout {
         match self {
             Readout::Residual => sum,
             Readout::Bounded | Readout::Saturating => {
-                let [c, x, y, z] = sum.dims();
-                let per_channel = |f: &dyn Fn(f32) -> f32| {
-                    let n = x * y * z;
-                    let data = (0..c).flat_map(|ch| std::iter::repeat_n(f(white_balance[ch]), n));
-                    tensor_from(data.collect(), [c, x, y, z], device)
-                };
-                let to_photo = per_channel(&|wb| 1.0 / wb);
-                let to_balanced = per_channel(&|wb| wb);
-                let photo = sum * to_photo;
+                // [3, 1, 1, 1], broadcast over the voxels.
+                let wb = tensor_from(white_balance.to_vec(), [3, 1, 1, 1], device);
+                let photo = sum / wb.clone();
                 let bounded = if self == Readout::Bounded {
                     (photo.mul_scalar(2.0).sub_scalar(1.0))
                         .tanh()
@@ -93,7 +86,7 @@ impl Readout {
                     .add_scalar(1.0);
                     lower.mask_where(photo.greater_elem(0.5), upper)
                 };
-                bounded * to_balanced
+                bounded * wb
             }
         }
     }

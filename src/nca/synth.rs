@@ -73,10 +73,10 @@ pub fn synthesise(
     device: &Device,
     progress: impl FnMut(usize),
 ) -> Result<Volume> {
-    super::denormals::flush_denormals_to_zero();
     if options.engine == Engine::Fused {
-        return synthesise_fused(trained, options, progress);
+        return synthesise_fused(trained, options, progress); // flushes in synthesise_at
     }
+    super::denormals::flush_denormals_to_zero();
     check_synthesis_memory(options.size)?;
     let spec = &trained.meta.spec;
     let norm = &trained.meta.normalisation;

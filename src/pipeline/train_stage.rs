@@ -70,23 +70,15 @@ pub fn train_into(
 ) -> Result<TrainSummary> {
     let resume = matches!(options.start, TrainStart::Resume);
     let dir = OutputDir::prepare(out)?;
-    let (config, source, fit, faces) = match &options.start {
-        TrainStart::Resume => {
-            let meta = ModelMeta::load(dir.root())?;
-            let fit = FitRecord::load(&dir.path(FIT_FILE), None)?;
-            let config = saved_config(dir.root())?;
-            let source = "the resumed run's train.toml".to_string();
-            (
-                config,
-                source,
-                PendingFit::Loaded(Box::new(fit)),
-                meta.faces,
-            )
-        }
-        TrainStart::Fresh { fit, config, faces } => (
+    let (config, source, faces) = match &options.start {
+        TrainStart::Resume => (
+            saved_config(dir.root())?,
+            "the resumed run's train.toml".to_string(),
+            ModelMeta::load(dir.root())?.faces,
+        ),
+        TrainStart::Fresh { config, faces, .. } => (
             TrainConfig::load(config)?,
             config.display().to_string(),
-            PendingFit::File(fit),
             faces.clone(),
         ),
     };
@@ -96,10 +88,10 @@ pub fn train_into(
     };
     let sample = Sample::load(options.sample, &faces, needs)?;
     check_sample_record(options.sample, &dir, resume)?;
-    let fit = match fit {
-        PendingFit::Loaded(f) => *f,
+    let fit = match &options.start {
+        TrainStart::Resume => FitRecord::load(&dir.path(FIT_FILE), None)?,
         // A fresh fit's ramp colours (field configs) need the photos' mean colour.
-        PendingFit::File(path) => load_fit(path, photo_mean(&sample))?,
+        TrainStart::Fresh { fit, .. } => load_fit(fit, photo_mean(&sample))?,
     };
     let data = TrainData::prepare(&sample, fit, &config);
     let loss = face_loss(&config, &data, &options.device.device())?;
@@ -143,12 +135,6 @@ pub fn train_into(
         last_loss: outcome.rows.last().map_or(f64::NAN, |r| f64::from(r.loss)),
         seconds: started.elapsed().as_secs_f64(),
     })
-}
-
-/// The fit a training starts from: a resumed run's own, or a file still to be read.
-enum PendingFit<'a> {
-    Loaded(Box<FitRecord>),
-    File(&'a Path),
 }
 
 fn check_sample_record(sample: &Path, out: &OutputDir, resume: bool) -> Result<()> {
