@@ -108,6 +108,7 @@ pub mod field;
 pub mod fit;
 pub mod frame;
 pub mod image2;
+pub mod image_filter;
 pub mod io;
 pub mod loss;
 pub mod memory;

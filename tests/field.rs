@@ -92,6 +92,7 @@ fn growth_increases_along_every_ray_for_random_rate_grids() {
             pith: PithConfig {
                 origin: random_point(&mut rng, 3.0).into(),
                 direction: [rng.range(-0.5, 0.5), 1.0, rng.range(-0.5, 0.5)],
+                fibre_direction: None,
             },
             growth,
             knots: vec![],
@@ -206,6 +207,7 @@ fn knot_field(death: Option<f32>) -> GrowthField {
         pith: PithConfig {
             origin: [0.0, 0.0, -1.3],
             direction: [0.0, 1.0, 0.0],
+            fibre_direction: None,
         },
         growth: GrowthConfig::uniform(10.0),
         knots: vec![knot],

@@ -15,6 +15,7 @@
 //! The component structs ([`PithConfig`], [`GrowthConfig`], [`KnotConfig`]) are reused by the
 //! configs of later stages (procedural wood, fit output), which hold them as fields.
 
+use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use super::base_colour::BaseColour;
@@ -49,6 +50,11 @@ pub struct PithConfig {
     /// Axis direction (need not be normalised). By convention close to +y (faces B and D are
     /// the end grain).
     pub direction: [f32; 3],
+    /// The direction the fibres run when the photos show it differs from the axis (tilted or
+    /// spiral grain; measured by `xylem fit`, `fit::fibre_direction`). Absent: along the axis.
+    /// Read by the NCA's grain noise; the procedural model grows its vessels along the axis.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fibre_direction: Option<[f32; 3]>,
 }
 
 /// Radial growth: years per unit of radius, optionally modulated by a rate grid R.
@@ -229,7 +235,17 @@ impl ConfigFile for FieldConfig {
 impl PithConfig {
     pub fn validate(&self, check: &Checker) -> Result<()> {
         check.vector("origin", self.origin, MAX_COORD, "a point in cube units")?;
-        check.direction("direction", self.direction)
+        check.direction("direction", self.direction)?;
+        match self.fibre_direction {
+            Some(d) => check.direction("fibre_direction", d),
+            None => Ok(()),
+        }
+    }
+
+    /// The unit fibre direction: `fibre_direction` if given, else the axis (a validated
+    /// config's directions are non-zero).
+    pub fn fibre_axis(&self) -> Vec3 {
+        Vec3::from(self.fibre_direction.unwrap_or(self.direction)).normalize()
     }
 }
 

@@ -22,6 +22,7 @@ pub mod colour_fit;
 pub mod config;
 pub mod contours;
 pub mod distortion;
+pub mod fibre_direction;
 pub mod grey_map;
 pub mod grid_layout;
 pub mod iso_loss;

@@ -15,6 +15,7 @@ use super::colour_fit::fit_base_colour;
 use super::config::{FitConfig, RingPeakConfig};
 use super::contours::{Contour, ContourSet, face_contours};
 use super::distortion::{LossParts, Step2, Step2Data, Step2Params};
+use super::fibre_direction::{FibreChoice, FibreMeasure, measure_fibre_direction};
 use super::grey_map::{self, GRange};
 use super::grid_layout::fitted_grid;
 use super::iso_loss::iso_loss;
@@ -68,6 +69,9 @@ pub struct FitResult {
     /// Contour count and points used.
     pub contours: usize,
     pub contour_points: usize,
+    /// The fibre direction measured on the photos (stored in the field's `[pith]` when
+    /// determined).
+    pub fibre: Option<FibreMeasure>,
     pub loss_log: Vec<LossRow>,
     /// Seconds per stage: contours, pith, distortion, colour.
     pub seconds: [f64; 4],
@@ -108,6 +112,11 @@ pub fn fit_sample(sample: &Sample, cfg: &FitConfig, progress: Progress) -> Resul
     let (step2, mut field) = fit_distortions(sample, cfg, &all, &marks, &piths, &mut log, progress);
     seconds[2] = clock.elapsed().as_secs_f64();
 
+    let fibre = measure_fibre_direction(&sample.photos, &sample.arl, &sample.faces, step2.pith.dir);
+    if let Some(FibreChoice::Measured(d)) = fibre.as_ref().map(|m| m.choice(step2.pith.dir)) {
+        field.pith.fibre_direction = Some(d.into());
+    }
+
     let clock = Instant::now();
     let growth = GrowthField::from_config(&field);
     field.base_colour = Some(fit_colour(sample, cfg, &growth, &mut log, progress));
@@ -123,6 +132,7 @@ pub fn fit_sample(sample: &Sample, cfg: &FitConfig, progress: Progress) -> Resul
         contours: all.len(),
         contour_points: all.points.len(),
         field,
+        fibre,
         loss_log: log,
         seconds,
     })
@@ -474,6 +484,7 @@ fn start_field(pith: &PithAxis, ypu: f32, knots: &[KnotConfig]) -> GrowthField {
         pith: PithConfig {
             origin: pith.origin.into(),
             direction: pith.dir.into(),
+            fibre_direction: None,
         },
         growth: GrowthConfig::uniform(ypu),
         knots: knots.to_vec(),
@@ -534,6 +545,7 @@ fn field_config(step2: &Step2, fitted: &Step2Params, rings: Option<RingsConfig>)
         pith: PithConfig {
             origin: step2.pith.origin.into(),
             direction: step2.pith.dir.into(),
+            fibre_direction: None,
         },
         growth: GrowthConfig {
             years_per_unit: step2.years_per_unit,

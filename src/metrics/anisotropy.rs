@@ -10,9 +10,8 @@
 //! The settings are those of issue 12's measurement; the high-pass width was not given there
 //! and is this module's choice.
 
-use super::filter::gaussian_blur;
 use super::lab::image_to_lab;
-use super::orientation::structure_tensor;
+use crate::image_filter::{gaussian_blur, structure_tensor};
 use crate::image2::Image2;
 
 /// Side the image is measured at (the sigmas are in pixels at this size).

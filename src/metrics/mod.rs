@@ -15,7 +15,6 @@
 //! - [`sheet`]: the side-by-side picture with the difference.
 
 pub mod anisotropy;
-pub mod filter;
 pub mod lab;
 pub mod orientation;
 pub mod patch_swd;

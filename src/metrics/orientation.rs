@@ -6,39 +6,13 @@
 //! towards pixels oriented in both images. 1: the same grain direction everywhere; 0:
 //! unrelated; -1: perpendicular. Sigmas follow the image width (values at 256 px).
 
-use super::filter::gaussian_blur;
+use crate::image_filter::structure_tensor;
 use crate::image2::Image2;
 
 /// Pre-smoothing of the luminance before differentiation (px at 256).
 const PRE_SIGMA: f32 = 1.0;
 /// Integration scale of the tensor (px at 256): about a pore's neighbourhood.
 const TENSOR_SIGMA: f32 = 4.0;
-
-/// The structure tensor (Jxx, Jxy, Jyy) of a one-channel image: central differences of the
-/// image blurred by `pre_sigma`, products blurred by `tensor_sigma` (both in pixels).
-pub fn structure_tensor(img: &Image2, pre_sigma: f32, tensor_sigma: f32) -> [Image2; 3] {
-    let lum = gaussian_blur(img, pre_sigma);
-    let (w, h) = (lum.width, lum.height);
-    let at = |x: usize, y: usize| lum.data[y * w + x];
-    let mut jxx = Image2::filled(w, h, 1, 0.0);
-    let mut jxy = Image2::filled(w, h, 1, 0.0);
-    let mut jyy = Image2::filled(w, h, 1, 0.0);
-    for y in 0..h {
-        for x in 0..w {
-            let gx = (at((x + 1).min(w - 1), y) - at(x.saturating_sub(1), y)) * 0.5;
-            let gy = (at(x, (y + 1).min(h - 1)) - at(x, y.saturating_sub(1))) * 0.5;
-            let i = y * w + x;
-            jxx.data[i] = gx * gx;
-            jxy.data[i] = gx * gy;
-            jyy.data[i] = gy * gy;
-        }
-    }
-    [
-        gaussian_blur(&jxx, tensor_sigma),
-        gaussian_blur(&jxy, tensor_sigma),
-        gaussian_blur(&jyy, tensor_sigma),
-    ]
-}
 
 /// Double-angle orientation field: (Jxx - Jyy, 2 Jxy) per pixel.
 pub fn orientation_field(img: &Image2) -> Vec<[f32; 2]> {

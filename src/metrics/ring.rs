@@ -6,7 +6,7 @@
 //! The shift tolerance forgives a ring placed a pixel or two off, which a growth-field fit
 //! cannot avoid. Scales are given for a 256 px image and follow the image width.
 
-use super::filter::gaussian_blur;
+use crate::image_filter::gaussian_blur;
 use crate::image2::Image2;
 
 /// Band-pass and shift settings at 256 px (scaled with the image width).

@@ -42,7 +42,8 @@ pub struct Conditioning {
     pub growth: Arc<dyn SolidTexture>,
     /// B in photo colours, RGB in [0, 1] (3 channels).
     pub colour: Arc<dyn SolidTexture>,
-    /// The fitted pith direction (unit, cube frame): the fibre axis of the grain noise.
+    /// The fibre direction (unit, cube frame; `PithConfig::fibre_axis`): the axis of the
+    /// grain noise.
     pub fibre_axis: Vec3,
     /// The grain noise, set by [`Conditioning::for_model`] for models that perceive it.
     pub grain: Option<Arc<GrainNoise>>,

@@ -130,7 +130,7 @@ impl FitRecord {
             (None, None) => unreachable!("load() gives a ramp to fields without base colour"),
         };
         Conditioning {
-            fibre_axis: field.pith.dir,
+            fibre_axis: self.field.pith.fibre_axis(),
             growth: field,
             colour,
             grain: None,

@@ -9,8 +9,9 @@
 //! may tie to the ring phase) gives tubes, which every cut shows with the right shape. Being
 //! an input, not part of the state, it cannot drift during long unrolls.
 //!
-//! The fibre axis is the fitted pith direction (one direction for the cube): the deflection
-//! around knots is left to the rule, which also sees B and G. The noise is a function of the
+//! The fibre axis is one direction for the cube: the one `xylem fit` measured on the photos'
+//! pores and fibre streaks (`fit::fibre_direction`), else the fitted pith direction. The
+//! deflection around knots is left to the rule, which also sees B and G. The noise is a function of the
 //! global position and a key, so a training crop sees the same part of the pattern as the
 //! whole volume would, and the key (the config's seed in training, the synthesis seed in
 //! synthesis) makes each synthesis a new realisation of the same statistics.

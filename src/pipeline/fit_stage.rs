@@ -3,8 +3,13 @@
 
 use std::path::Path;
 
+use glam::Vec3;
+
 use super::reporter::Reporter;
 use crate::Result;
+use crate::fit::fibre_direction::{
+    AGREEMENT_DEG, FibreChoice, FibreMeasure, MAX_EIGEN_RATIO, MIN_EVIDENCE,
+};
 use crate::fit::run::total_steps;
 use crate::fit::{Display, FitConfig, FitResult, fit_sample, write_fit};
 use crate::frame::Face;
@@ -63,8 +68,32 @@ pub fn fit_into(options: &FitOptions, out: &Path, reporter: &dyn Reporter) -> Re
          {seconds:.1} s",
         result.iso_mm_step1, result.iso_mm_step2, result.contours,
     ));
+    say_fibre(result.fibre.as_ref(), result.field.pith.direction, reporter);
     reporter.say(&format!("wrote {}/fit.toml and sheet.png", out.display()));
     Ok(result)
+}
+
+/// Says which way the fibres run and whether the photos or the pith axis decided it.
+fn say_fibre(fibre: Option<&FibreMeasure>, axis: [f32; 3], reporter: &dyn Reporter) {
+    let Some(m) = fibre else { return };
+    let [x, y, z] = m.direction.to_array();
+    let ratio = m.eigen_ratio;
+    reporter.say(&match m.choice(Vec3::from(axis)) {
+        FibreChoice::Measured(_) => format!(
+            "fibre direction measured on the photos: ({x:.3}, {y:.3}, {z:.3}) (eigenvalue \
+             ratio {ratio:.3}); the NCA's grain follows it, not the pith axis"
+        ),
+        FibreChoice::AlongAxis(deg) => format!(
+            "the photos' fibres run within {deg:.1} degrees of the pith axis (within \
+             {AGREEMENT_DEG}): fibres along the axis"
+        ),
+        FibreChoice::Undetermined => format!(
+            "the photos do not determine the fibre direction (eigenvalue ratio {ratio:.3}, \
+             needs < {MAX_EIGEN_RATIO}; evidence {:.2}, needs >= {MIN_EVIDENCE}): fibres along \
+             the pith axis",
+            m.evidence
+        ),
+    });
 }
 
 /// Says which faces' ring images the localiser made (none when the folder had them all).

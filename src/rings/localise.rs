@@ -18,10 +18,9 @@
 //!    face, its contrast is not), and widened to bands as wide as the U-Net's.
 
 use super::config::LocaliserConfig;
+use crate::image_filter::{gaussian_blur, structure_tensor};
 use crate::image2::Image2;
-use crate::metrics::filter::gaussian_blur;
 use crate::metrics::lab::image_to_lab;
-use crate::metrics::orientation::structure_tensor;
 
 /// Side at which the config's pixel lengths hold.
 const REFERENCE_SIDE: f32 = 256.0;
