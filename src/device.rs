@@ -50,7 +50,7 @@ impl FromStr for DeviceKind {
             "flex" => Ok(DeviceKind::Flex),
             "ndarray" => Ok(DeviceKind::Ndarray),
             other => Err(XylemError::input(
-                format!("--device {other:?}"),
+                format!("$device {other:?}"),
                 "expected `flex` (default) or `ndarray`",
             )),
         }

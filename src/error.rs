@@ -33,8 +33,14 @@ pub enum XylemError {
     #[error("{path}: {message}")]
     Image { path: PathBuf, message: String },
 
-    /// A command-line argument or other in-memory input is malformed.
-    #[error("{what}: {message}")]
+    /// A command-line argument or other in-memory input is malformed. `what` and `message`
+    /// may name a caller's setting as `$name` (see [`SettingStyle`]); shown as `name` here,
+    /// as the flag `--name` by the command line.
+    #[error(
+        "{}: {}",
+        SettingStyle::Library.apply(.what),
+        SettingStyle::Library.apply(.message)
+    )]
     Input { what: String, message: String },
 
     /// A sample folder (Mokume layout) is incomplete or inconsistent.
@@ -46,7 +52,7 @@ pub enum XylemError {
     Numeric { stage: String, message: String },
 
     /// A step of a longer job failed; `what` says which step and on what (`fitting DIR`).
-    #[error("{what}: {source}")]
+    #[error("{}: {source}", SettingStyle::Library.apply(.what))]
     During {
         what: String,
         #[source]
@@ -54,7 +60,51 @@ pub enum XylemError {
     },
 }
 
+/// The settings a caller chooses that errors may name in their advice ("pass $force to
+/// replace it"). They are the command line's flags and, mostly, fields of the library's
+/// option structs of the same name.
+pub const SETTINGS: [&str; 11] = [
+    "config", "device", "faces", "force", "out", "plane", "preset", "resume", "rings", "size",
+    "values",
+];
+
+/// How an error names a setting: `name` in library errors (a library user has no flags), the
+/// flag `--name` on the command line (issue 17: library errors leave flag names to the CLI).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SettingStyle {
+    Library,
+    Flags,
+}
+
+impl SettingStyle {
+    /// `text` with every `$name` of [`SETTINGS`] written in this style.
+    pub fn apply(self, text: &str) -> String {
+        let mut out = text.to_string();
+        for name in SETTINGS {
+            let shown = match self {
+                SettingStyle::Library => format!("`{name}`"),
+                SettingStyle::Flags => format!("--{name}"),
+            };
+            out = out.replace(&format!("${name}"), &shown);
+        }
+        out
+    }
+}
+
 impl XylemError {
+    /// The message with settings named in `style` (its sources included, as `Display` does).
+    pub fn render(&self, style: SettingStyle) -> String {
+        match self {
+            Self::Input { what, message } => {
+                format!("{}: {}", style.apply(what), style.apply(message))
+            }
+            Self::During { what, source } => {
+                format!("{}: {}", style.apply(what), source.render(style))
+            }
+            other => other.to_string(),
+        }
+    }
+
     pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
         Self::Io {
             path: path.into(),
@@ -96,5 +146,29 @@ impl XylemError {
             stage: stage.into(),
             message: message.into(),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn settings_are_names_in_the_library_and_flags_on_the_command_line() {
+        let err = XylemError::input("out.png", "file exists; pass $force to replace it")
+            .during("writing $out");
+        assert_eq!(
+            err.to_string(),
+            "writing `out`: out.png: file exists; pass `force` to replace it"
+        );
+        assert_eq!(
+            err.render(SettingStyle::Flags),
+            "writing --out: out.png: file exists; pass --force to replace it"
+        );
+        let faces = XylemError::input("$faces \"A,X\"", "\"X\" is not a face");
+        assert_eq!(
+            faces.render(SettingStyle::Flags),
+            "--faces \"A,X\": \"X\" is not a face"
+        );
     }
 }

@@ -19,7 +19,11 @@ fn main() {
 fn message(err: &anyhow::Error) -> String {
     let mut text = String::new();
     for cause in err.chain() {
-        let part = cause.to_string();
+        // Library errors name settings as `$name`; the command line shows them as its flags.
+        let part = match cause.downcast_ref::<xylem::XylemError>() {
+            Some(e) => e.render(xylem::error::SettingStyle::Flags),
+            None => cause.to_string(),
+        };
         if text.contains(&part) {
             continue;
         }

@@ -48,7 +48,7 @@ fn names(presets: &[(&'static str, &'static str)]) -> Vec<&'static str> {
 
 fn unknown(kind: &str, name: &str, presets: &[(&'static str, &'static str)]) -> XylemError {
     XylemError::input(
-        format!("--preset {name:?}"),
+        format!("$preset {name:?}"),
         format!(
             "unknown {kind} preset; built-in presets: {}",
             names(presets).join(", ")

@@ -279,7 +279,7 @@ pub fn parse_faces(list: &str) -> Result<Vec<Face>> {
     for part in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
         let face = Face::parse(part).ok_or_else(|| {
             XylemError::input(
-                format!("--faces {list:?}"),
+                format!("$faces {list:?}"),
                 format!("{part:?} is not a face; expected letters A..F separated by commas"),
             )
         })?;
@@ -289,7 +289,7 @@ pub fn parse_faces(list: &str) -> Result<Vec<Face>> {
     }
     if faces.is_empty() {
         return Err(XylemError::input(
-            format!("--faces {list:?}"),
+            format!("$faces {list:?}"),
             "no faces given; expected e.g. A,B,C,D,E",
         ));
     }

@@ -138,7 +138,7 @@ fn plane_specs_parse_and_reject_bad_input() {
     ] {
         let err = bad.parse::<PlaneSpec>().unwrap_err().to_string();
         assert!(
-            err.contains("--plane") && err.contains("expected"),
+            err.contains("`plane`") && err.contains("expected"),
             "{bad}: {err}"
         );
     }

@@ -248,7 +248,7 @@ fn resume_continues_exactly_like_an_uninterrupted_run() {
     )
     .unwrap_err()
     .to_string();
-    assert!(err.contains("--resume"), "{err}");
+    assert!(err.contains("`resume`"), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -384,7 +384,7 @@ fn face_lists_are_parsed_or_refused() {
         (" c , a ,c", Expect::Fine),
         (
             "A,G",
-            error(&["--faces \"A,G\"", "\"G\" is not a face", "A..F"]),
+            error(&["`faces` \"A,G\"", "\"G\" is not a face", "A..F"]),
         ),
         ("", error(&["no faces given"])),
         (",,,", error(&["no faces given"])),

@@ -44,7 +44,7 @@ pub struct CompareArgs {
     #[arg(long)]
     pub loss: Option<PathBuf>,
     /// CPU backend of the style loss: flex (default) or ndarray.
-    #[arg(long, default_value = "flex")]
+    #[arg(long, default_value = "flex", value_parser = super::output_args::flagged::<DeviceKind>)]
     pub device: DeviceKind,
 }
 

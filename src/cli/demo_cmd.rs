@@ -41,7 +41,7 @@ pub struct DemoArgs {
     #[arg(long, default_value_t = 90, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=2048))]
     pub synth_steps: usize,
     /// CPU backend of the NCA's burn parts (optimiser, loss; the whole NCA with --engine burn).
-    #[arg(long, default_value = "flex")]
+    #[arg(long, default_value = "flex", value_parser = super::output_args::flagged::<DeviceKind>)]
     pub device: DeviceKind,
     /// Synthesis unroll: the fused CPU kernels (default) or burn (the reference). Training
     /// uses the engine of the NCA config (`[compute] engine`, fused by default).

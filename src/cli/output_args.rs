@@ -15,6 +15,16 @@ pub struct SizeAndOut {
     pub out: PathBuf,
 }
 
+/// Parses a library value for clap, its error naming settings as this CLI's flags (the
+/// library writes them as `$name`, see `xylem::error::SettingStyle`).
+pub fn flagged<T>(s: &str) -> Result<T, String>
+where
+    T: std::str::FromStr<Err = xylem::XylemError>,
+{
+    s.parse::<T>()
+        .map_err(|e| e.render(xylem::error::SettingStyle::Flags))
+}
+
 /// Splits `N` (a square) or `WxH`; `None` if either side is not a number.
 fn split_size(s: &str) -> Option<(u64, u64)> {
     match s.split_once(['x', 'X']) {

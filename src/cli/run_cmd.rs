@@ -64,7 +64,7 @@ pub struct RunArgs {
     #[arg(long, default_value_t = 160, value_parser = super::output_args::image_side_16_2048)]
     pub image_size: usize,
     /// CPU backend of the NCA's burn parts (optimiser, loss; the whole NCA with --engine burn).
-    #[arg(long, default_value = "flex")]
+    #[arg(long, default_value = "flex", value_parser = super::output_args::flagged::<DeviceKind>)]
     pub device: DeviceKind,
     /// Synthesis unroll: the fused CPU kernels (default) or burn (the reference). Training
     /// uses the engine of the NCA config (`[compute] engine`, fused by default).

@@ -33,7 +33,7 @@ pub struct SliceArgs {
     #[command(flatten)]
     pub source: TextureSource,
     /// The plane: cut1, cut2, A..F, or "ox,oy,oz;ux,uy,uz;vx,vy,vz".
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = super::output_args::flagged::<PlaneSpec>)]
     pub plane: PlaneSpec,
     /// Image side in pixels.
     #[arg(long, default_value_t = 256, value_parser = super::output_args::side_2_8192)]

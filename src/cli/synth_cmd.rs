@@ -41,7 +41,7 @@ pub struct SynthArgs {
     #[arg(long, short = 'o')]
     pub out: PathBuf,
     /// CPU backend of the burn engine (and for loading the weights).
-    #[arg(long, default_value = "flex")]
+    #[arg(long, default_value = "flex", value_parser = super::output_args::flagged::<DeviceKind>)]
     pub device: DeviceKind,
     /// Unroll with the fused CPU kernels (default) or with burn (the reference, slower).
     #[arg(long, default_value = "fused")]

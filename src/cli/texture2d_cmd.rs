@@ -50,7 +50,7 @@ pub struct Texture2dArgs {
     #[arg(long)]
     pub loss: Option<PathBuf>,
     /// CPU backend: flex (default) or ndarray.
-    #[arg(long, default_value = "flex")]
+    #[arg(long, default_value = "flex", value_parser = super::output_args::flagged::<DeviceKind>)]
     pub device: DeviceKind,
     /// Output folder (created; must be new, empty, or an earlier xylem output).
     #[arg(long, short = 'o')]

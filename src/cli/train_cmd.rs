@@ -42,7 +42,7 @@ pub struct TrainArgs {
     #[arg(long, short = 'o')]
     pub out: PathBuf,
     /// CPU backend.
-    #[arg(long, default_value = "flex")]
+    #[arg(long, default_value = "flex", value_parser = super::output_args::flagged::<DeviceKind>)]
     pub device: DeviceKind,
     /// Continue the run in --out from its last checkpoint (its own train.toml and fit.toml).
     #[arg(long)]

@@ -94,7 +94,7 @@ fn check_colour(volume: &Volume, what: &str) -> Result<()> {
             what,
             format!(
                 "a colour volume has 3 channels (RGB), this one has {}; export it as data \
-                 (`--values data`) to write the values as they are",
+                 ($values data) to write the values as they are",
                 volume.channels
             ),
         ));
@@ -118,8 +118,8 @@ pub fn check_looks_like_colour(volume: &Volume, what: &str) -> Result<()> {
             what,
             format!(
                 "{:.1} % of the values lie outside [0, 1], so this may not be colour (a fibre \
-                 direction?): say what it is, `--values data` to write the values as they \
-                 are or `--values colour` to clamp them to [0, 1]",
+                 direction?): say what it is, $values data to write the values as they \
+                 are or $values colour to clamp them to [0, 1]",
                 100.0 * fraction
             ),
         ));
@@ -155,7 +155,7 @@ mod tests {
             .expect_err("a direction field does not look like colour")
             .to_string();
         assert!(
-            err.contains("f.npy") && err.contains("--values data"),
+            err.contains("f.npy") && err.contains("`values` data"),
             "{err}"
         );
         let colour = rgb(vec![0.0, 0.5, 1.0, 0.2, 0.3, 0.4]);

@@ -129,7 +129,7 @@ impl FromStr for PlaneSpec {
 
 fn plane_error(s: &str, message: &str) -> XylemError {
     XylemError::input(
-        format!("--plane {s:?}"),
+        format!("$plane {s:?}"),
         format!(
             "{message}; expected cut1, cut2, a face A..F, or \"ox,oy,oz;ux,uy,uz;vx,vy,vz\" \
              (origin = top-left corner, u = width edge, v = height edge, cube units)"

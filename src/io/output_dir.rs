@@ -22,7 +22,7 @@ impl OutputDir {
             if !root.is_dir() {
                 return Err(XylemError::input(
                     root.display().to_string(),
-                    "--out must be a folder, and this is an existing file",
+                    "$out must be a folder, and this is an existing file",
                 ));
             }
             let marked = root.join(MARKER).exists();
@@ -34,7 +34,7 @@ impl OutputDir {
                 return Err(XylemError::input(
                     root.display().to_string(),
                     "folder exists, is not empty and was not written by xylem; \
-                     choose a new --out folder so nothing there is overwritten",
+                     choose a new $out folder so nothing there is overwritten",
                 ));
             }
         } else {
@@ -65,7 +65,7 @@ pub fn check_new_file(path: &Path, force: bool) -> Result<()> {
     if path.exists() && !force {
         return Err(XylemError::input(
             path.display().to_string(),
-            "file exists; pass --force to replace it",
+            "file exists; pass $force to replace it",
         ));
     }
     Ok(())

@@ -81,7 +81,7 @@ impl Provenance {
                 return Err(XylemError::input(
                     path.display().to_string(),
                     "missing: this run folder holds results but no record of what made them \
-                     (an older xylem?); use another --out, or delete the folder to start over",
+                     (an older xylem?); use another $out, or delete the folder to start over",
                 ));
             }
             let text = toml::to_string(self).map_err(|e| {
@@ -104,7 +104,7 @@ impl Provenance {
             path.display().to_string(),
             format!(
                 "this run folder was made with other inputs ({}); its results would not match \
-                 this call: use another --out, or delete the folder to start over",
+                 this call: use another $out, or delete the folder to start over",
                 changes.join("; ")
             ),
         ))

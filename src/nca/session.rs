@@ -76,7 +76,7 @@ pub fn run_training(
         if !snapshot::exists(root) {
             return Err(XylemError::input(
                 root.display().to_string(),
-                "--resume: no checkpoint in this folder (expected checkpoint/progress.toml)",
+                "$resume: no checkpoint in this folder (expected checkpoint/progress.toml)",
             ));
         }
         snapshot::load(root, &mut trainer)?
@@ -84,7 +84,7 @@ pub fn run_training(
         if snapshot::exists(root) || root.join(WEIGHTS_FILE).exists() {
             return Err(XylemError::input(
                 root.display().to_string(),
-                "already holds a training run; pass --resume to continue it or choose a new --out",
+                "already holds a training run; pass $resume to continue it or choose a new $out",
             ));
         }
         write_config_copy(&out.path(CONFIG_FILE), config, config_source)?;

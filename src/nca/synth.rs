@@ -46,7 +46,7 @@ fn check_synthesis_memory(size: usize) -> Result<()> {
     crate::memory::check_fits(
         "synthesis size",
         crate::memory::synthesis_bytes(size),
-        &format!("a {size}^3 volume; use a smaller --size"),
+        &format!("a {size}^3 volume; use a smaller $size"),
     )
 }
 
