@@ -5,7 +5,7 @@ use crate::error::Result;
 use crate::frame::{Face, Plane};
 use crate::image2::Image2;
 use crate::io::{OutputDir, save_png};
-use crate::slice::{slice_face, slice_plane, unfold_cross};
+use crate::slice::{slice_faces, slice_plane, unfold_cross};
 use crate::texture::SolidTexture;
 
 /// Background of the empty tiles of the unfolded cross.
@@ -22,7 +22,7 @@ impl SliceSet {
     /// Samples the faces and cuts at n x n.
     pub fn render(texture: &dyn SolidTexture, n: usize) -> Self {
         Self {
-            faces: Face::ALL.map(|f| slice_face(texture, f, n)),
+            faces: slice_faces(texture, n),
             cut1: slice_plane(texture, &Plane::cut1(), n, n),
             cut2: slice_plane(texture, &Plane::cut2(), n, n),
         }

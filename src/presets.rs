@@ -61,11 +61,6 @@ pub fn field_preset(name: &str) -> Option<&'static str> {
     find(FIELD_PRESETS, name)
 }
 
-/// Preset names, for error messages.
-pub fn field_preset_names() -> Vec<&'static str> {
-    names(FIELD_PRESETS)
-}
-
 /// Parses a built-in field preset.
 pub fn load_field_preset(name: &str) -> crate::Result<FieldConfig> {
     let text = field_preset(name).ok_or_else(|| unknown("field", name, FIELD_PRESETS))?;

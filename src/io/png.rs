@@ -103,19 +103,3 @@ fn from_bytes(width: u32, height: u32, channels: usize, bytes: Vec<u8>) -> Resul
     let data = bytes.into_iter().map(|b| b as f32 / 255.0).collect();
     Image2::from_data(width as usize, height as usize, channels, data)
 }
-
-/// Checks that an image is square with side `n` (or any square size if `n` is `None`).
-pub fn require_square(img: &Image2, path: &Path, n: Option<usize>) -> Result<()> {
-    let ok = img.width == img.height && n.is_none_or(|n| img.width == n);
-    if ok {
-        return Ok(());
-    }
-    let expected = match n {
-        Some(n) => format!("{n}x{n}"),
-        None => "a square image".into(),
-    };
-    Err(XylemError::image(
-        path,
-        format!("is {}x{}; expected {expected}", img.width, img.height),
-    ))
-}

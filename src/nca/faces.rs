@@ -77,12 +77,6 @@ impl FaceLayout {
         }
     }
 
-    /// The face image of a state `[C, X, Y, Z]` covering `region` (the region must touch the
-    /// face): `[C, rows, cols]`.
-    pub fn extract(&self, state: Tensor<4>, region: &Region) -> Tensor<3> {
-        self.extract_at(state, region, 0)
-    }
-
     /// The plane `depth` voxels inside the region from this face, parallel to it, with the
     /// face image's rows and columns: `[C, rows, cols]`.
     pub fn extract_at(&self, state: Tensor<4>, region: &Region, depth: usize) -> Tensor<3> {

@@ -31,20 +31,6 @@ pub fn scalar(t: Tensor<1>) -> f32 {
     t.into_scalar::<f32>()
 }
 
-/// `[X, Y, Z, C]` volume -> `[C, X, Y, Z]` tensor.
-pub fn volume_to_tensor(v: &Volume, device: &Device) -> Tensor<4> {
-    let [x, y, z] = v.dims;
-    let c = v.channels;
-    let mut data = vec![0.0f32; v.data.len()];
-    let n = x * y * z;
-    for (voxel, values) in v.data.chunks_exact(c).enumerate() {
-        for (ch, &value) in values.iter().enumerate() {
-            data[ch * n + voxel] = value;
-        }
-    }
-    tensor_from(data, [c, x, y, z], device)
-}
-
 /// `[C, X, Y, Z]` tensor -> `[X, Y, Z, C]` volume.
 pub fn tensor_to_volume(t: Tensor<4>) -> Result<Volume> {
     let [c, x, y, z] = t.dims();

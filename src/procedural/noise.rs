@@ -45,13 +45,6 @@ pub fn lattice_hash(seed: u64, i: i32, j: i32, k: i32) -> u64 {
     )
 }
 
-/// The `n`-th independent uniform number in [0, 1) drawn from one hash (for cells that need
-/// several random values: position, size, occurrence).
-#[inline]
-pub fn hash_unit(h: u64, n: u64) -> f32 {
-    crate::rng::unit(mix64(h ^ n.wrapping_mul(KY)))
-}
-
 /// Three independent uniform numbers in [0, 1) (21 bits each) from one hash.
 #[inline]
 pub fn hash_units3(h: u64) -> Vec3 {

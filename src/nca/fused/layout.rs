@@ -58,11 +58,6 @@ impl Shapes {
         }
     }
 
-    /// Row of the first perceived conditioning channel among the inputs.
-    pub fn cond_row(&self) -> usize {
-        FILTERS * self.state
-    }
-
     /// Row of the first position channel among the inputs.
     pub fn position_row(&self) -> usize {
         FILTERS * (self.state + self.cond)
