@@ -16,7 +16,7 @@ use xylem::frame::Face;
 use xylem::io::{load_rgb, save_png};
 use xylem::loss::{GuidedLoss, GuidedPatch, tensor_to_image};
 use xylem::nca::TrainConfig;
-use xylem::nca::face_guides::phase_guide;
+use xylem::nca::train::face_guides::phase_guide;
 use xylem::rng::Rng;
 
 fn main() -> xylem::Result<()> {

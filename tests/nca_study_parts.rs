@@ -10,7 +10,7 @@ use xylem::loss::{GuidedConfig, GuidedLoss, GuidedPatch, LossConfig, image_to_te
 use xylem::metrics::anisotropy::pore_anisotropy;
 use xylem::metrics::phase_density::{PhaseDensity, curve_correlation};
 use xylem::nca::faces::layout;
-use xylem::nca::placement::{Placement, draw_region};
+use xylem::nca::train::placement::{Placement, draw_region};
 use xylem::rng::{Rng, hash3, unit};
 
 /// Rings every `period` columns (G = column / period); pores (dark pixels) only in the first

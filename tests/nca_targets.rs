@@ -1,7 +1,7 @@
 //! Training targets: area resampling to the training grid and white balance.
 
 use xylem::Image2;
-use xylem::nca::targets::resample;
+use xylem::nca::train::targets::resample;
 
 #[test]
 fn shrinking_averages_blocks_and_keeps_the_mean() {

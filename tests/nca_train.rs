@@ -14,11 +14,11 @@ use xylem::frame::Face;
 use xylem::io::{OutputDir, save_png};
 use xylem::nca::config::Engine;
 use xylem::nca::fit_source::load_fit;
-use xylem::nca::loss::MomentLoss;
 use xylem::nca::model_dir::load_weights;
-use xylem::nca::session::{TrainOptions, run_training};
-use xylem::nca::targets::photo_mean;
 use xylem::nca::tensors::to_vec;
+use xylem::nca::train::loss::MomentLoss;
+use xylem::nca::train::session::{TrainOptions, run_training};
+use xylem::nca::train::targets::photo_mean;
 use xylem::nca::train::{TrainData, Trainer};
 use xylem::nca::{FaceLossKind, TrainConfig, face_loss};
 use xylem::presets::load_field_preset;
@@ -70,7 +70,7 @@ fn train(
     cfg: &TrainConfig,
     data: &TrainData,
     options: &TrainOptions,
-) -> xylem::nca::session::TrainOutcome {
+) -> xylem::nca::train::session::TrainOutcome {
     let kind = DeviceKind::Flex;
     let loss = MomentLoss::new(&data.targets, &kind.device());
     let dir = OutputDir::prepare(out).unwrap();

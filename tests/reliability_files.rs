@@ -826,7 +826,7 @@ fn damaged_models_and_checkpoints_give_clear_errors() {
         let root = dir.join(format!("ckpt{i}"));
         copy_dir(&dir.join("model/checkpoint"), &root.join("checkpoint"));
         damage(&root);
-        let result = xylem::nca::snapshot::load(&root, &mut trainer);
+        let result = xylem::nca::train::snapshot::load(&root, &mut trainer);
         tally.add(judge_result(name, &result, expect));
         if let Ok(rows) = &result {
             assert_eq!((rows.len(), trainer.iteration), (2, 2), "{name}");

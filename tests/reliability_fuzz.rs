@@ -1229,7 +1229,7 @@ fn model_and_checkpoint_loaders_survive_crafted_files() {
                     *t = Some(Trainer::new(&c, &data, DeviceKind::Flex).unwrap());
                 }
                 let trainer = t.as_mut().unwrap();
-                verdict(xylem::nca::snapshot::load(&r, trainer), |rows| {
+                verdict(xylem::nca::train::snapshot::load(&r, trainer), |rows| {
                     (rows.len() < trainer.iteration).then(|| {
                         format!(
                             "{} log rows for a checkpoint at iteration {}",

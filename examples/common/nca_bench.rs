@@ -46,8 +46,11 @@ pub fn train_data(size: usize) -> TrainData {
     };
     let conditioning = fit.conditioning();
     let normalisation = conditioning.normalisation([0.6, 0.45, 0.3]);
-    let guides =
-        xylem::nca::face_guides::phase_guides(conditioning.growth.as_ref(), &Face::ALL, size);
+    let guides = xylem::nca::train::face_guides::phase_guides(
+        conditioning.growth.as_ref(),
+        &Face::ALL,
+        size,
+    );
     TrainData {
         faces: Face::ALL.to_vec(),
         targets,

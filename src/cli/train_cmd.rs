@@ -82,7 +82,7 @@ pub fn run(args: TrainArgs) -> Result<()> {
 /// A fresh run needs --config and --fit; --resume takes the run's own and refuses them.
 fn start(args: &TrainArgs) -> Result<TrainStart> {
     if args.resume {
-        if !xylem::nca::snapshot::exists(&args.out) {
+        if !xylem::nca::train::snapshot::exists(&args.out) {
             bail!(
                 "--resume: {} holds no checkpoint of a training run (expected {}/checkpoint/)",
                 args.out.display(),

@@ -6,9 +6,9 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
+use super::localiser_config::LocaliserConfig;
 use crate::config::{Checker, ConfigFile};
 use crate::error::Result;
-use crate::rings::LocaliserConfig;
 
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]

@@ -12,6 +12,10 @@
 //! 4. Base colour ([`colour_fit`]) on the white-balanced photos ([`white_balance`]).
 //! 5. [`run`] ties it together; [`write`](mod@write) and [`sheet`] produce the files; [`metrics`]
 //!    measures accuracy; [`synthetic`] writes samples with known truth for tests.
+//! 6. [`fibre_direction`]: which way the fibres run, measured on the photos.
+//!
+//! [`config`] is the fit config; its `[localiser]` section ([`localiser_config`]) configures
+//! `crate::rings`, which predicts ring images for faces without them before the fit runs.
 //!
 //! Optimisation is plain Adam ([`adam`]) on analytic gradients (central differences only for
 //! the knot parameters, see [`knot_fit`]); `tests/fit.rs` checks them against finite
@@ -28,6 +32,7 @@ pub mod grid_layout;
 pub mod iso_loss;
 pub mod knot_fit;
 pub mod knot_init;
+pub mod localiser_config;
 pub mod metrics;
 pub mod pith_descent;
 pub mod pith_search;

@@ -203,3 +203,10 @@ impl Normalisation {
         data
     }
 }
+
+/// Undoes the white balance of `norm` on a white-balanced RGB value.
+pub fn to_photo_colour(norm: &Normalisation, rgb: &mut [f32]) {
+    for (v, wb) in rgb.iter_mut().zip(norm.white_balance) {
+        *v /= wb;
+    }
+}

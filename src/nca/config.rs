@@ -10,7 +10,6 @@ use serde::{Deserialize, Serialize};
 use super::cond_channel::CondChannel;
 use super::grain_noise::GrainNoiseSpec;
 use super::perception::{FILTERS, POSITION_CHANNELS, PerceptionImpl};
-use super::placement::Placement;
 use super::readout::Readout;
 use crate::config::{Checker, ConfigFile};
 use crate::error::Result;
@@ -447,4 +446,16 @@ pub enum FaceLossKind {
     /// The guided local loss (`[loss.guided]`): each patch against the photo around it,
     /// with the ring phase as a guide.
     Guided,
+}
+
+/// Where the training crops of an iteration lie (`[volume] placement`; drawn by
+/// `nca::train::placement`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Placement {
+    /// The 8 corner crops (each touches three faces).
+    Corners,
+    /// A crop against a trained face, anywhere along it.
+    #[default]
+    Faces,
 }

@@ -10,60 +10,47 @@
 //! Tensors are `[C, X, Y, Z]` (burn's `[C, D, H, W]` with D = x), no batch dimension: training
 //! uses batch 1 (DESIGN) and the unroll of a large volume is split into slabs along x instead.
 //!
+//! The model and its engines live here; training lives in [`train`], which builds on them
+//! and which nothing here imports (as burn keeps `burn-train` apart from its model crates).
+//!
 //! Files, one concept each:
-//! - [`config`]: the training config (`configs/nca/*.toml`) and the model's architecture.
+//! - [`config`]: the training config (`configs/nca/*.toml`), the model's architecture and the
+//!   option enums training reads.
 //! - [`tensors`]: moving data between `Vec`/`Volume` and tensors.
-//! - [`region`]: a box of voxels of the training grid (whole volume or a corner crop) and its
+//! - [`region`]: a box of voxels of the training grid (whole volume or a crop) and its
 //!   position channels.
-//! - [`conditioning`]: B and G as solid textures, sampled into conditioning channels.
-//! - [`fit_source`]: where B and G come from (a stand-in until the fit of issue 4 lands; the
-//!   one place it plugs in).
+//! - [`cond_channel`], [`conditioning`], [`grain_noise`]: the conditioning inputs (B, G, ring
+//!   phase, grain noise) as solid textures sampled into channels, and the white balance.
+//! - [`fit_source`]: where B and G come from (the fit of `xylem fit`, or a stand-in).
 //! - [`denormals`]: flush-to-zero on the compute threads (denormals made long backward
 //!   passes 2x slower).
 //! - [`perception`]: the fixed depthwise filters, as shifted slices or as `conv3d`.
-//! - [`model`]: the burn `Module` (the MLP) and one update step.
+//! - [`model`]: the burn `Module` (the MLP) and one update step; [`readout`]: colour from
+//!   the state.
 //! - [`unroll`]: many steps, slab by slab for large volumes, seeds.
-//! - [`checkpoint`]: gradients through long unrolls by segment recomputation.
+//! - [`checkpoint`]: gradients through long unrolls by segment recomputation (both engines).
 //! - [`faces`]: the six cube faces (or the face patches of a crop) of a state tensor.
-//! - [`loss`]: the seam to the face losses (`FaceLoss`) and the moment baseline.
-//! - [`style_face_loss`]: the style loss of `crate::loss` as a `FaceLoss` (the default).
-//! - [`targets`]: white-balanced face photos at the training resolution.
-//! - [`pool`]: the pool of states training continues from.
-//! - [`train`]: one training iteration (Adam, schedule, gradient normalisation, overflow
-//!   loss) and the state it carries.
-//! - [`loss_log`]: the per-iteration log (`loss.csv`).
-//! - [`snapshot`]: training checkpoints on disk for `--resume`.
-//! - [`session`]: a whole training run into a model folder, checkpoints, resume.
+//! - [`fused`]: the hand-written CPU kernels (forward, adjoint, training step).
 //! - [`model_dir`]: the trained-model folder (`model.bpk`, `model.toml`, conditioning).
 //! - [`synth`]: unrolling a trained model into a colour volume.
-//! - [`plot`]: the loss curve as an image.
+//! - [`train`]: targets, face losses, crop placement, pool, one iteration, the log,
+//!   checkpoints on disk and a whole training session.
 
 pub mod checkpoint;
 pub mod cond_channel;
 pub mod conditioning;
 pub mod config;
 pub mod denormals;
-pub mod face_guides;
 pub mod faces;
 pub mod fit_source;
 pub mod fused;
 pub mod grain_noise;
-pub mod guided_face_loss;
-pub mod loss;
-pub mod loss_log;
 pub mod model;
 pub mod model_dir;
 pub mod perception;
-pub mod placement;
-pub mod plot;
-pub mod pool;
 pub mod readout;
 pub mod region;
-pub mod session;
-pub mod snapshot;
-pub mod style_face_loss;
 pub mod synth;
-pub mod targets;
 pub mod tensors;
 pub mod train;
 pub mod unroll;
@@ -72,7 +59,7 @@ pub use cond_channel::CondChannel;
 pub use conditioning::Conditioning;
 pub use config::{FaceLossKind, ModelSpec, TrainConfig};
 pub use faces::{FacePatch, face_patches};
-pub use loss::{FaceLoss, MomentLoss};
 pub use model::Nca;
 pub use region::Region;
-pub use style_face_loss::{StyleFaceLoss, face_loss};
+pub use train::loss::{FaceLoss, MomentLoss};
+pub use train::style_face_loss::{StyleFaceLoss, face_loss};

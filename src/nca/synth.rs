@@ -15,7 +15,7 @@
 
 use burn::tensor::Device;
 
-use super::conditioning::CondVolumes;
+use super::conditioning::{CondVolumes, to_photo_colour};
 use super::config::Engine;
 use super::fused::{FixedInputs, Isa, MlpWeights, Stepper};
 use super::grain_noise::cell_scale;
@@ -23,7 +23,6 @@ use super::model::StepInputs;
 use super::model_dir::TrainedModel;
 use super::readout::Readout;
 use super::region::Region;
-use super::targets::to_photo_colour;
 use super::tensors::tensor_to_volume;
 use super::unroll::{seed_data, seed_state, unroll};
 use crate::error::Result;

@@ -20,7 +20,7 @@ use crate::Result;
 use crate::fit::FitConfig;
 use crate::io::{OutputDir, write_bytes_atomic};
 use crate::nca::model_dir::WEIGHTS_FILE;
-use crate::nca::snapshot;
+use crate::nca::train::snapshot;
 use crate::report::{MetricsTable, StageClock, Timings, default_title, write_report};
 use crate::run_folder::RunLayout;
 use crate::texture::SolidTexture;

@@ -14,9 +14,9 @@ use crate::nca::TrainConfig;
 use crate::nca::face_loss;
 use crate::nca::fit_source::{FIT_FILE, FitRecord, load_fit};
 use crate::nca::model_dir::ModelMeta;
-use crate::nca::session::{TrainOptions, run_training, saved_config};
-use crate::nca::targets::photo_mean;
 use crate::nca::train::TrainData;
+use crate::nca::train::session::{TrainOptions, run_training, saved_config};
+use crate::nca::train::targets::photo_mean;
 use crate::sample::{Needs, Sample};
 
 /// A fresh training or the continuation of the folder's own.

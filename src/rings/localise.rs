@@ -17,7 +17,7 @@
 //!    between two percentiles of the face (the ring share of a face is similar on every
 //!    face, its contrast is not), and widened to bands as wide as the U-Net's.
 
-use super::config::LocaliserConfig;
+use crate::fit::localiser_config::LocaliserConfig;
 use crate::image_filter::{gaussian_blur, structure_tensor};
 use crate::image2::Image2;
 use crate::metrics::lab::image_to_lab;

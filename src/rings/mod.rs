@@ -4,12 +4,12 @@
 //! images a sample folder lacks, [`agreement`] measures a prediction against a reference.
 
 pub mod agreement;
-pub mod config;
+
 pub mod localise;
 pub mod sheet;
 pub mod source;
 
+pub use crate::fit::localiser_config::LocaliserConfig;
 pub use agreement::{Agreement, agreement};
-pub use config::LocaliserConfig;
 pub use localise::localise;
 pub use source::{RingSource, SampleWithRings, load_with_rings};

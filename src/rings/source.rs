@@ -6,9 +6,9 @@ use std::fmt;
 use std::path::Path;
 use std::str::FromStr;
 
-use super::config::LocaliserConfig;
 use super::localise::localise;
 use crate::error::{Result, XylemError};
+use crate::fit::localiser_config::LocaliserConfig;
 use crate::frame::Face;
 use crate::sample::{Needs, Sample};
 

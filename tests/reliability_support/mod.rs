@@ -276,7 +276,7 @@ pub fn tiny_data(sample_dir: &Path, cfg: &xylem::nca::TrainConfig) -> xylem::nca
     let sample = Sample::load(sample_dir, &Face::ALL, needs).expect("tiny sample");
     let fit = xylem::nca::fit_source::load_fit(
         &repo("configs/fields/distorted.toml"),
-        xylem::nca::targets::photo_mean(&sample),
+        xylem::nca::train::targets::photo_mean(&sample),
     )
     .expect("distorted field as the fit");
     xylem::nca::train::TrainData::prepare(&sample, fit, cfg)
@@ -286,7 +286,7 @@ pub fn tiny_data(sample_dir: &Path, cfg: &xylem::nca::TrainConfig) -> xylem::nca
 /// sample `dir/sample` into `dir/model` (with its checkpoint); about a second.
 pub fn tiny_model(dir: &Path) -> (PathBuf, xylem::nca::TrainConfig) {
     use xylem::device::DeviceKind;
-    use xylem::nca::session::{TrainOptions, run_training};
+    use xylem::nca::train::session::{TrainOptions, run_training};
     let sample_dir = dir.join("sample");
     write_tiny_sample(&sample_dir, 16);
     let cfg = xylem::nca::TrainConfig::parse(TINY_NCA, Path::new("<tiny>")).expect("tiny config");

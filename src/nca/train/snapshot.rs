@@ -17,16 +17,16 @@ use std::path::{Path, PathBuf};
 use burn::tensor::Bytes;
 use serde::{Deserialize, Serialize};
 
+use super::iteration::{Trainer, adam};
 use super::loss_log::{LossRow, read_csv, write_csv};
-use super::model::Nca;
-use super::model_dir::{load_weights, save_weights};
 use super::pool::Pool;
-use super::region::Region;
-use super::train::{Trainer, adam};
 use crate::config::{load_toml, write_config_copy};
 use crate::error::{Result, XylemError};
 use crate::io::npy::{read_npy, write_npy};
 use crate::io::write_bytes_atomic;
+use crate::nca::model::Nca;
+use crate::nca::model_dir::{load_weights, save_weights};
+use crate::nca::region::Region;
 
 pub const SNAPSHOT_DIR: &str = "checkpoint";
 

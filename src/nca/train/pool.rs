@@ -8,9 +8,9 @@
 
 use burn::tensor::{Device, Tensor};
 
-use super::region::Region;
-use super::tensors::{tensor_from, to_vec};
 use crate::error::{Result, XylemError};
+use crate::nca::region::Region;
+use crate::nca::tensors::{tensor_from, to_vec};
 
 /// One stored state and its region.
 #[derive(Clone, Debug)]

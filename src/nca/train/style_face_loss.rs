@@ -9,14 +9,14 @@
 
 use burn::tensor::{Device, Tensor};
 
-use super::config::{FaceLossKind, TrainConfig};
-use super::faces::FacePatch;
 use super::guided_face_loss::GuidedFaceLoss;
+use super::iteration::TrainData;
 use super::loss::{FaceLoss, MomentLoss, no_target_loss};
-use super::train::TrainData;
 use crate::error::{Result, XylemError};
 use crate::image2::Image2;
 use crate::loss::{StyleLoss, StyleTargets};
+use crate::nca::config::{FaceLossKind, TrainConfig};
+use crate::nca::faces::FacePatch;
 
 /// The face loss a training config asks for, with targets `[Option<Image2>; 6]` in file
 /// order (`None`: face not trained on). Fails, naming the config key, when the loss cannot

@@ -15,10 +15,10 @@
 
 use burn::tensor::{Device, Tensor};
 
-use super::faces::FacePatch;
 use crate::frame::Face;
 use crate::image2::Image2;
 use crate::loss::image_to_tensor;
+use crate::nca::faces::FacePatch;
 
 /// A loss on generated face patches.
 pub trait FaceLoss {

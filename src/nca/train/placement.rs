@@ -7,22 +7,12 @@
 //! its other two axes start anywhere in the grid, so every part of every trained face is
 //! seen and crops at an edge or a corner still touch two or three faces.
 
-use serde::{Deserialize, Serialize};
+pub use crate::nca::config::Placement;
 
-use super::faces::layout;
-use super::region::Region;
 use crate::frame::Face;
+use crate::nca::faces::layout;
+use crate::nca::region::Region;
 use crate::rng::Rng;
-
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Placement {
-    /// The 8 corner crops (each touches three faces).
-    Corners,
-    /// A crop against a trained face, anywhere along it.
-    #[default]
-    Faces,
-}
 
 /// Draws the region of one iteration; `faces` are the faces trained on (not empty).
 /// The whole grid when `crop >= grid`.

@@ -5,12 +5,12 @@
 
 use burn::tensor::{Device, Tensor};
 
-use super::config::TrainConfig;
-use super::faces::FacePatch;
+use super::iteration::TrainData;
 use super::loss::{FaceLoss, no_target_loss};
-use super::train::TrainData;
 use crate::error::{Result, XylemError};
 use crate::loss::{GuidedLoss, GuidedPatch, GuidedTarget};
+use crate::nca::config::TrainConfig;
+use crate::nca::faces::FacePatch;
 
 pub struct GuidedFaceLoss {
     loss: GuidedLoss,

@@ -5,9 +5,9 @@
 //! scale in voxels as in target pixels. Each face is divided by twice its mean colour (DESIGN
 //! section 6: white balance), so every target has mean 0.5 per channel.
 
-use super::conditioning::Normalisation;
 use crate::frame::Face;
 use crate::image2::Image2;
+use crate::nca::conditioning::Normalisation;
 use crate::sample::Sample;
 use crate::slice::slice_face;
 use crate::texture::SolidTexture;
@@ -60,13 +60,6 @@ pub fn match_base_means(
                 *v *= f;
             }
         }
-    }
-}
-
-/// Undoes the white balance of `norm` on a white-balanced RGB value.
-pub fn to_photo_colour(norm: &Normalisation, rgb: &mut [f32]) {
-    for (v, wb) in rgb.iter_mut().zip(norm.white_balance) {
-        *v /= wb;
     }
 }
 

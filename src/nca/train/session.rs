@@ -9,19 +9,19 @@
 use std::path::Path;
 use std::time::Instant;
 
-use super::config::TrainConfig;
-use super::fit_source::FIT_FILE;
+use super::iteration::{TrainData, Trainer, check_data};
 use super::loss::FaceLoss;
 use super::loss_log::{LossRow, write_csv};
-use super::model_dir::{ModelMeta, WEIGHTS_FILE, save_weights, weights_hash};
 use super::plot::loss_plot;
 use super::snapshot;
-use super::train::{TrainData, Trainer, check_data};
 use crate::config::ConfigFile;
 use crate::config::write_config_copy;
 use crate::device::DeviceKind;
 use crate::error::{Result, XylemError};
 use crate::io::{OutputDir, save_png};
+use crate::nca::config::TrainConfig;
+use crate::nca::fit_source::FIT_FILE;
+use crate::nca::model_dir::{ModelMeta, WEIGHTS_FILE, save_weights, weights_hash};
 
 pub const CONFIG_FILE: &str = "train.toml";
 pub const LOSS_FILE: &str = "loss.csv";
@@ -47,7 +47,7 @@ pub struct TrainOutcome {
 
 /// Trains into `out`, calling `on_iteration` after each iteration (for progress display).
 /// Denormal floats are flushed to zero from here on in this process (see
-/// [`flush_denormals_to_zero`](super::denormals::flush_denormals_to_zero)).
+/// [`flush_denormals_to_zero`](crate::nca::denormals::flush_denormals_to_zero)).
 #[allow(clippy::too_many_arguments)]
 pub fn run_training(
     out: &OutputDir,
@@ -60,7 +60,7 @@ pub fn run_training(
     on_iteration: &mut dyn FnMut(&LossRow),
 ) -> Result<TrainOutcome> {
     check_data(data)?;
-    super::denormals::flush_denormals_to_zero();
+    crate::nca::denormals::flush_denormals_to_zero();
     let root = out.root();
     let mut trainer = Trainer::new(config, data, kind)?;
     let meta = |iterations, weights_hash| ModelMeta {
