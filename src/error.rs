@@ -38,7 +38,7 @@ pub enum XylemError {
     /// as the flag `--name` by the command line.
     #[error(
         "{}: {}",
-        SettingStyle::Library.apply(.what),
+        SettingStyle::Library.apply_lead(.what),
         SettingStyle::Library.apply(.message)
     )]
     Input { what: String, message: String },
@@ -52,7 +52,7 @@ pub enum XylemError {
     Numeric { stage: String, message: String },
 
     /// A step of a longer job failed; `what` says which step and on what (`fitting DIR`).
-    #[error("{}: {source}", SettingStyle::Library.apply(.what))]
+    #[error("{}: {source}", SettingStyle::Library.apply_lead(.what))]
     During {
         what: String,
         #[source]
@@ -68,6 +68,12 @@ pub const SETTINGS: [&str; 11] = [
     "values",
 ];
 
+/// User text (a path, a value) to put inside a message that names settings: every `$`
+/// doubled, so [`SettingStyle::apply`] shows it exactly as given.
+pub fn literal(text: &str) -> String {
+    text.replace('$', "$$")
+}
+
 /// How an error names a setting: `name` in library errors (a library user has no flags), the
 /// flag `--name` on the command line (issue 17: library errors leave flag names to the CLI).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -77,17 +83,59 @@ pub enum SettingStyle {
 }
 
 impl SettingStyle {
-    /// `text` with every `$name` of [`SETTINGS`] written in this style.
-    pub fn apply(self, text: &str) -> String {
-        let mut out = text.to_string();
-        for name in SETTINGS {
-            let shown = match self {
-                SettingStyle::Library => format!("`{name}`"),
-                SettingStyle::Flags => format!("--{name}"),
-            };
-            out = out.replace(&format!("${name}"), &shown);
+    /// How this style shows the setting `name`.
+    fn show(self, name: &str) -> String {
+        match self {
+            SettingStyle::Library => format!("`{name}`"),
+            SettingStyle::Flags => format!("--{name}"),
         }
+    }
+
+    /// `text` (a message written by the library) with every `$name` of [`SETTINGS`] that ends
+    /// a word written in this style; `$outdir` or `$forced` stay as they are, and `$$` is a
+    /// plain `$` (user text inside a message goes through [`literal`]).
+    pub fn apply(self, text: &str) -> String {
+        let mut out = String::with_capacity(text.len());
+        let mut rest = text;
+        while let Some(at) = rest.find('$') {
+            out.push_str(&rest[..at]);
+            let after = &rest[at + 1..];
+            let token = SETTINGS.iter().find(|name| {
+                after.starts_with(**name)
+                    && !after[name.len()..]
+                        .starts_with(|c: char| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+            });
+            if let Some(escaped) = after.strip_prefix('$') {
+                out.push('$');
+                rest = escaped;
+                continue;
+            }
+            match token {
+                Some(name) => {
+                    out.push_str(&self.show(name));
+                    rest = &after[name.len()..];
+                }
+                None => {
+                    out.push('$');
+                    rest = after;
+                }
+            }
+        }
+        out.push_str(rest);
         out
+    }
+
+    /// `what` (the input an error is about) with a leading `$name ` written in this style and
+    /// the rest, which may be a user's path or value, left exactly as given.
+    pub fn apply_lead(self, what: &str) -> String {
+        for name in SETTINGS {
+            if let Some(rest) = what.strip_prefix(&format!("${name}"))
+                && (rest.is_empty() || rest.starts_with(' '))
+            {
+                return format!("{}{rest}", self.show(name));
+            }
+        }
+        what.to_string()
     }
 }
 
@@ -96,10 +144,10 @@ impl XylemError {
     pub fn render(&self, style: SettingStyle) -> String {
         match self {
             Self::Input { what, message } => {
-                format!("{}: {}", style.apply(what), style.apply(message))
+                format!("{}: {}", style.apply_lead(what), style.apply(message))
             }
             Self::During { what, source } => {
-                format!("{}: {}", style.apply(what), source.render(style))
+                format!("{}: {}", style.apply_lead(what), source.render(style))
             }
             other => other.to_string(),
         }
@@ -156,14 +204,23 @@ mod tests {
     #[test]
     fn settings_are_names_in_the_library_and_flags_on_the_command_line() {
         let err = XylemError::input("out.png", "file exists; pass $force to replace it")
-            .during("writing $out");
+            .during("writing /tmp/$out");
         assert_eq!(
             err.to_string(),
-            "writing `out`: out.png: file exists; pass `force` to replace it"
+            "writing /tmp/$out: out.png: file exists; pass `force` to replace it"
         );
         assert_eq!(
             err.render(SettingStyle::Flags),
-            "writing --out: out.png: file exists; pass --force to replace it"
+            "writing /tmp/$out: out.png: file exists; pass --force to replace it"
+        );
+        // A user's path or value is shown as given, even where it looks like a setting.
+        let path = XylemError::input(
+            "/data/$out/$force.png",
+            format!("{} and $outdir stay", literal("$force/x")),
+        );
+        assert_eq!(
+            path.render(SettingStyle::Flags),
+            "/data/$out/$force.png: $force/x and $outdir stay"
         );
         let faces = XylemError::input("$faces \"A,X\"", "\"X\" is not a face");
         assert_eq!(

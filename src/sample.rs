@@ -280,7 +280,10 @@ pub fn parse_faces(list: &str) -> Result<Vec<Face>> {
         let face = Face::parse(part).ok_or_else(|| {
             XylemError::input(
                 format!("$faces {list:?}"),
-                format!("{part:?} is not a face; expected letters A..F separated by commas"),
+                format!(
+                    "{} is not a face; expected letters A..F separated by commas",
+                    crate::error::literal(&format!("{part:?}"))
+                ),
             )
         })?;
         if !faces.contains(&face) {

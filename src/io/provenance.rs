@@ -105,7 +105,7 @@ impl Provenance {
             format!(
                 "this run folder was made with other inputs ({}); its results would not match \
                  this call: use another $out, or delete the folder to start over",
-                changes.join("; ")
+                crate::error::literal(&changes.join("; "))
             ),
         ))
     }
