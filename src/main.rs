@@ -20,7 +20,13 @@ fn message(err: &anyhow::Error) -> String {
     let mut text = String::new();
     for cause in err.chain() {
         // Library errors name settings as `$name`; the command line shows them as its flags.
-        let part = match cause.downcast_ref::<xylem::XylemError>() {
+        // A wrapped library error (`During`) hands its source on as a `Box<XylemError>`.
+        let library = cause.downcast_ref::<xylem::XylemError>().or_else(|| {
+            cause
+                .downcast_ref::<Box<xylem::XylemError>>()
+                .map(|boxed| &**boxed)
+        });
+        let part = match library {
             Some(e) => e.render(xylem::error::SettingStyle::Flags),
             None => cause.to_string(),
         };

@@ -128,6 +128,15 @@ pub fn judge_run(row: &str, outcome: &Outcome, expect: &Expect) -> Verdict {
     } else {
         &outcome.stderr
     };
+    // The command line names settings by their flags only: a library-style `name` would mean
+    // a library error reached the user unrendered (once, a wrapped error's cause did).
+    for name in xylem::error::SETTINGS {
+        assert!(
+            !outcome.stderr.contains(&format!("`{name}`")),
+            "{row}: the message names the setting `{name}` instead of its flag:\n{}",
+            outcome.stderr
+        );
+    }
     judge(row, outcome.ok(), text, expect)
 }
 
