@@ -46,37 +46,49 @@ pub fn gaussian_gradient(img: &Image2, sigma: f32) -> [Image2; 2] {
 /// Correlates a one-channel image with `along_x` over columns, then `along_y` over rows (odd
 /// lengths, centred; clamped borders).
 fn separable(src: &Image2, along_x: &[f32], along_y: &[f32]) -> Image2 {
-    let (w, h) = (src.width as isize, src.height as isize);
-    let rx = (along_x.len() / 2) as isize;
-    let mut tmp = vec![0.0f32; src.data.len()];
-    for y in 0..h {
-        for x in 0..w {
-            let mut acc = 0.0;
-            for (i, kv) in along_x.iter().enumerate() {
-                let xx = (x + i as isize - rx).clamp(0, w - 1);
-                acc += kv * src.data[(y * w + xx) as usize];
-            }
-            tmp[(y * w + x) as usize] = acc;
-        }
-    }
-    let ry = (along_y.len() / 2) as isize;
-    let mut out = vec![0.0f32; src.data.len()];
-    for y in 0..h {
-        for x in 0..w {
-            let mut acc = 0.0;
-            for (i, kv) in along_y.iter().enumerate() {
-                let yy = (y + i as isize - ry).clamp(0, h - 1);
-                acc += kv * tmp[(yy * w + x) as usize];
-            }
-            out[(y * w + x) as usize] = acc;
-        }
-    }
+    let (w, h) = (src.width, src.height);
+    let rows_done = correlate_lines(&src.data, w, h, along_x, true);
     Image2 {
-        width: src.width,
-        height: src.height,
+        width: w,
+        height: h,
         channels: 1,
-        data: out,
+        data: correlate_lines(&rows_done, w, h, along_y, false),
     }
+}
+
+/// Correlates every line of a `w` x `h` grid with `kernel` (odd length, centred; clamped
+/// borders): the rows when `along_x`, else the columns. Visits pixels in memory order.
+fn correlate_lines(data: &[f32], w: usize, h: usize, kernel: &[f32], along_x: bool) -> Vec<f32> {
+    let r = (kernel.len() / 2) as isize;
+    let mut out = vec![0.0f32; data.len()];
+    for y in 0..h {
+        for x in 0..w {
+            // Position along the line, its length, its first pixel and the step between pixels.
+            let (p, len, first, step) = if along_x {
+                (x, w, y * w, 1)
+            } else {
+                (y, h, x, w)
+            };
+            let mut acc = 0.0;
+            for (i, kv) in kernel.iter().enumerate() {
+                let q = (p as isize + i as isize - r).clamp(0, len as isize - 1) as usize;
+                acc += kv * data[first + q * step];
+            }
+            out[y * w + x] = acc;
+        }
+    }
+    out
+}
+
+/// `img`'s channel 0 minus its Gaussian blur of `sigma` px: the fine texture (pores, fibre
+/// streaks) without the ring-scale shading.
+pub fn high_pass(img: &Image2, sigma: f32) -> Image2 {
+    let low = gaussian_blur(img, sigma);
+    let mut fine = img.channel(0);
+    for (v, l) in fine.data.iter_mut().zip(&low.data) {
+        *v -= l;
+    }
+    fine
 }
 
 /// The structure tensor (Jxx, Jxy, Jyy) of a one-channel image: central differences of the

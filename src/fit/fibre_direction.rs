@@ -31,7 +31,7 @@
 use glam::{DMat3, DVec3, Vec3};
 
 use crate::frame::Face;
-use crate::image_filter::{gaussian_blur, gaussian_gradient};
+use crate::image_filter::{gaussian_gradient, high_pass};
 use crate::image2::Image2;
 
 /// Side the photos are measured at (the sigmas are in pixels at this size).
@@ -75,8 +75,6 @@ pub struct FaceGrain {
     pub across: Vec3,
     /// How oriented the fine texture is: (lambda1 - lambda2) / (lambda1 + lambda2).
     pub coherence: f32,
-    /// Root-mean-square gradient of the fine texture (lightness per pixel at 256 px).
-    pub strength: f32,
 }
 
 /// The measured fibre direction and how well the photos determine it.
@@ -159,19 +157,14 @@ pub fn face_grain(face: Face, photo: &Image2, rings: Option<&Image2>) -> FaceGra
             .collect(),
         None => vec![1.0; SIDE * SIDE],
     };
-    let low = gaussian_blur(&light, HIGH_PASS_SIGMA);
-    let mut fine = light;
-    for (v, l) in fine.data.iter_mut().zip(&low.data) {
-        *v -= l;
-    }
+    let fine = high_pass(&light, HIGH_PASS_SIGMA);
     let [gx, gy] = gaussian_gradient(&fine, GRADIENT_SIGMA);
-    let (mut xx, mut xy, mut yy, mut total) = (0f64, 0f64, 0f64, 0f64);
+    let (mut xx, mut xy, mut yy) = (0f64, 0f64, 0f64);
     for ((&a, &b), &w) in gx.data.iter().zip(&gy.data).zip(&weight) {
         let (a, b) = (a as f64, b as f64);
         xx += w * a * a;
         xy += w * a * b;
         yy += w * b * b;
-        total += w;
     }
     let energy = xx + yy;
     let coherence = if energy > 1e-20 {
@@ -186,7 +179,6 @@ pub fn face_grain(face: Face, photo: &Image2, rings: Option<&Image2>) -> FaceGra
         face,
         across: (column * angle.cos() as f32 + row * angle.sin() as f32).normalize(),
         coherence,
-        strength: (energy / total.max(1e-9)).sqrt() as f32,
     }
 }
 

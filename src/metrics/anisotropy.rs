@@ -11,7 +11,7 @@
 //! and is this module's choice.
 
 use super::lab::image_to_lab;
-use crate::image_filter::{gaussian_blur, structure_tensor};
+use crate::image_filter::{high_pass, structure_tensor};
 use crate::image2::Image2;
 
 /// Side the image is measured at (the sigmas are in pixels at this size).
@@ -31,13 +31,7 @@ pub fn high_passed_lightness(img: &Image2) -> Image2 {
     } else {
         img.with_channels(3).resized(SIDE, height)
     };
-    let light = image_to_lab(&sized).channel(0);
-    let low = gaussian_blur(&light, HIGH_PASS_SIGMA);
-    let mut out = light;
-    for (v, l) in out.data.iter_mut().zip(&low.data) {
-        *v -= l;
-    }
-    out
+    high_pass(&image_to_lab(&sized).channel(0), HIGH_PASS_SIGMA)
 }
 
 /// The energy-weighted coherence of the image's high-passed lightness, in [0, 1]
