@@ -7,7 +7,8 @@ use crate::frame::{CROSS_TILES, Face, Plane, cross_tile};
 use crate::image2::Image2;
 use crate::texture::SolidTexture;
 
-/// Samples `texture` at the pixel centres of a `width` x `height` image of `plane`.
+/// Samples `texture` at the pixel centres of a `width` x `height` image of `plane`, as seen
+/// on that plane (`SolidTexture::eval_on_surface` with the plane's normal).
 pub fn slice_plane(
     texture: &dyn SolidTexture,
     plane: &Plane,
@@ -15,13 +16,15 @@ pub fn slice_plane(
     height: usize,
 ) -> Image2 {
     let channels = texture.channels();
+    let normal = plane.normal();
     let mut data = vec![0.0f32; width * height * channels];
     data.par_chunks_mut(width * channels)
         .enumerate()
         .for_each(|(row, line)| {
             for col in 0..width {
                 let p = plane.pixel_point(row, col, width, height);
-                texture.eval(p, &mut line[col * channels..(col + 1) * channels]);
+                let out = &mut line[col * channels..(col + 1) * channels];
+                texture.eval_on_surface(p, normal, out);
             }
         });
     Image2 {

@@ -18,6 +18,15 @@ pub trait SolidTexture: Send + Sync {
     /// Writes the values at `p` into `out` (`out.len() == self.channels()`).
     fn eval(&self, p: Vec3, out: &mut [f32]);
 
+    /// The values seen on a surface through `p` with unit normal `normal` (cube frame): what
+    /// slicing and rendering show. Textures whose look depends on how the surface cuts the
+    /// grain (`field::GrainShaded`) override it; for all others it is [`Self::eval`], which
+    /// stays the plain lookup that volumes and exports use.
+    fn eval_on_surface(&self, p: Vec3, normal: Vec3, out: &mut [f32]) {
+        let _ = normal;
+        self.eval(p, out)
+    }
+
     /// Convenience: the values at `p` as a new vector.
     fn eval_vec(&self, p: Vec3) -> Vec<f32> {
         let mut out = vec![0.0; self.channels()];
@@ -33,6 +42,9 @@ impl<T: SolidTexture + ?Sized> SolidTexture for &T {
     fn eval(&self, p: Vec3, out: &mut [f32]) {
         (**self).eval(p, out)
     }
+    fn eval_on_surface(&self, p: Vec3, normal: Vec3, out: &mut [f32]) {
+        (**self).eval_on_surface(p, normal, out)
+    }
 }
 
 impl<T: SolidTexture + ?Sized> SolidTexture for Box<T> {
@@ -42,6 +54,9 @@ impl<T: SolidTexture + ?Sized> SolidTexture for Box<T> {
     fn eval(&self, p: Vec3, out: &mut [f32]) {
         (**self).eval(p, out)
     }
+    fn eval_on_surface(&self, p: Vec3, normal: Vec3, out: &mut [f32]) {
+        (**self).eval_on_surface(p, normal, out)
+    }
 }
 
 impl<T: SolidTexture + ?Sized> SolidTexture for std::sync::Arc<T> {
@@ -50,6 +65,9 @@ impl<T: SolidTexture + ?Sized> SolidTexture for std::sync::Arc<T> {
     }
     fn eval(&self, p: Vec3, out: &mut [f32]) {
         (**self).eval(p, out)
+    }
+    fn eval_on_surface(&self, p: Vec3, normal: Vec3, out: &mut [f32]) {
+        (**self).eval_on_surface(p, normal, out)
     }
 }
 
@@ -67,19 +85,41 @@ impl<T: SolidTexture> SolidTexture for FirstChannels<T> {
     fn eval(&self, p: Vec3, out: &mut [f32]) {
         with_values(&self.inner, p, |all| out.copy_from_slice(&all[..out.len()]));
     }
+    fn eval_on_surface(&self, p: Vec3, normal: Vec3, out: &mut [f32]) {
+        with_surface_values(&self.inner, p, normal, |all| {
+            out.copy_from_slice(&all[..out.len()])
+        });
+    }
 }
 
 /// Evaluates `texture` at `p` into a scratch buffer (on the stack for up to 16 channels) and
 /// hands the values to `f`; adapters use it to avoid a heap allocation per point.
 pub fn with_values<R>(texture: &dyn SolidTexture, p: Vec3, f: impl FnOnce(&[f32]) -> R) -> R {
-    let n = texture.channels();
+    with_scratch(texture.channels(), |buf| texture.eval(p, buf), f)
+}
+
+/// [`with_values`] for the values seen on a surface with unit normal `normal`.
+pub fn with_surface_values<R>(
+    texture: &dyn SolidTexture,
+    p: Vec3,
+    normal: Vec3,
+    f: impl FnOnce(&[f32]) -> R,
+) -> R {
+    with_scratch(
+        texture.channels(),
+        |buf| texture.eval_on_surface(p, normal, buf),
+        f,
+    )
+}
+
+fn with_scratch<R>(n: usize, fill: impl FnOnce(&mut [f32]), f: impl FnOnce(&[f32]) -> R) -> R {
     if n <= 16 {
         let mut buf = [0.0f32; 16];
-        texture.eval(p, &mut buf[..n]);
+        fill(&mut buf[..n]);
         f(&buf[..n])
     } else {
         let mut buf = vec![0.0f32; n];
-        texture.eval(p, &mut buf);
+        fill(&mut buf);
         f(&buf)
     }
 }

@@ -697,3 +697,42 @@ fn fibre_direction_of_the_real_cubes() {
         assert!(!m.is_determined(), "H11 {faces:?}: {m:?}");
     }
 }
+
+/// Issue 14: a sample whose end grain was photographed darker by a known factor gets that
+/// factor back in its white balance, and the same sample without it gets no grain shading.
+#[test]
+fn fit_recovers_a_known_end_grain_factor() {
+    let dir = common::scratch("fit-end-grain");
+    write_synthetic_sample(&dir, &field_config(TILTED), 64).unwrap();
+    let fibre = Vec3::new(0.15, 1.0, -0.1).normalize();
+    let factor = 0.85f32;
+    let plain = load_all(&dir);
+    let mut darkened = load_all(&dir);
+    for face in Face::ALL {
+        // Seen colour = side colour x (1 - (1 - factor) w), w = (n . t)^2.
+        let w = face.normal().dot(fibre).powi(2);
+        let photo = darkened.photos[face.index()].as_mut().unwrap();
+        for v in photo.data.iter_mut() {
+            *v *= 1.0 - (1.0 - factor) * w;
+        }
+    }
+    let fit = |s: &Sample| fit_sample(s, &quick_config(), &mut |_, _, _| {}).unwrap();
+    let shaded = fit(&darkened);
+    let wb = &shaded.field.base_colour.as_ref().unwrap().white_balance;
+    let grain = wb.grain.as_ref().expect("the darkened end grain is shown");
+    eprintln!("darkened: {grain:?}");
+    for c in 0..3 {
+        let ratio = grain.end[c] / grain.side[c];
+        assert!(
+            (ratio - factor).abs() < 0.03,
+            "channel {c}: end/side {ratio}"
+        );
+    }
+    let unshaded = fit(&plain);
+    let estimate = unshaded.grain.as_ref().unwrap();
+    eprintln!("plain: t = {}", estimate.model.t_statistic);
+    assert!(!estimate.is_shown(), "{estimate:?}");
+    let wb = &unshaded.field.base_colour.as_ref().unwrap().white_balance;
+    assert!(wb.grain.is_none());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -72,6 +72,7 @@ fn fitted(preset: &str) -> FieldConfig {
         white_balance: WhiteBalance {
             face_means: [mean; 6],
             mean,
+            grain: None,
         },
     });
     field

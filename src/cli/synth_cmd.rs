@@ -20,8 +20,10 @@ the shipped configs stay near [0, 1] (measured in BENCHMARKS.md: a few hundred o
 values outside, by up to 0.25, after 256 steps on the demo sample), models trained with
 [model] readout = \"saturating\" or \"bounded\" inside it by construction; the command
 prints the range and how many values fall outside; axes x, y, z as every xylem volume), DIR/faces/A.png..F.png,
-DIR/cuts/cut1.png, DIR/cuts/cut2.png, DIR/unfolded.png (PNGs clamp colour to [0, 1]) and
-DIR/model.toml (the model's description). The texture scale is per voxel: a --size other
+DIR/cuts/cut1.png, DIR/cuts/cut2.png, DIR/unfolded.png (PNGs clamp colour to [0, 1]; seen
+with the fit's grain shading when it has one: end grain darker than side grain, DESIGN
+\"Grain shading\"; volume.npy holds the plain colour) and DIR/model.toml (the model's
+description). The texture scale is per voxel: a --size other
 than the training grid scales pores and rays with it. `xylem export` clamps colour to [0, 1]
 and converts it for other tools (.vdb, .vol, .nrrd, a Mitsuba scene).")]
 pub struct SynthArgs {

@@ -15,6 +15,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::field_sample::FieldSample;
+use super::grain_shading::GrainShading;
 use super::smin::smoothstep;
 use crate::config::Checker;
 use crate::error::Result;
@@ -49,6 +50,10 @@ pub struct WhiteBalance {
     pub face_means: [[f32; 3]; 6],
     /// Mean of the fitted faces' means: the white balance of cuts and volumes.
     pub mean: [f32; 3],
+    /// How the mean colour changes with the angle of surface and fibres, when the photos
+    /// show it (`grain_shading`); absent: every surface has the plain `mean`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub grain: Option<GrainShading>,
 }
 
 fn default_knot_blend() -> f32 {
@@ -80,7 +85,11 @@ impl WhiteBalance {
         for (f, m) in self.face_means.iter().enumerate() {
             check_mean(check, &format!("face_means[{f}]"), *m)?;
         }
-        check_mean(check, "mean", self.mean)
+        check_mean(check, "mean", self.mean)?;
+        match &self.grain {
+            Some(g) => g.validate(&check.nested("grain")),
+            None => Ok(()),
+        }
     }
 }
 

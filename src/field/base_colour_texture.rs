@@ -4,6 +4,7 @@
 use glam::Vec3;
 
 use super::base_colour::BaseColour;
+use super::grain_shaded_texture::GrainShaded;
 use super::growth::GrowthField;
 use crate::frame::Face;
 use crate::texture::SolidTexture;
@@ -32,6 +33,28 @@ impl BaseColourTexture {
             field,
             colour,
             space,
+        }
+    }
+}
+
+/// The base colour as a photo shows it: on `fitted_face` (a face the colour was fitted to)
+/// with that face's white balance and offset; elsewhere (`None`: held-out faces, cuts,
+/// renders) at the sample's white balance, seen with its grain shading.
+pub fn base_colour_as_seen(
+    field: &GrowthField,
+    colour: BaseColour,
+    fitted_face: Option<Face>,
+) -> Box<dyn SolidTexture> {
+    match fitted_face {
+        Some(f) => Box::new(BaseColourTexture::new(
+            field.clone(),
+            colour,
+            ColourSpace::Real(Some(f)),
+        )),
+        None => {
+            let wb = colour.white_balance.clone();
+            let plain = BaseColourTexture::new(field.clone(), colour, ColourSpace::Real(None));
+            Box::new(GrainShaded::new(plain, Some(&wb)))
         }
     }
 }

@@ -11,6 +11,8 @@
 //! - [`ring_warp`]: fitted ring positions mapped onto integer years.
 //! - [`field_sample`]: what the field knows about one point.
 //! - [`base_colour`]: a fitted colour bar over G; [`base_colour_texture`]: its solid texture.
+//! - [`grain_shading`]: how the seen colour depends on the angle of surface and fibres;
+//!   [`grain_shaded_texture`]: a solid texture seen with it.
 
 pub mod arl;
 pub mod base_colour;
@@ -18,6 +20,8 @@ pub mod base_colour_texture;
 pub mod config;
 pub mod distortion;
 pub mod field_sample;
+pub mod grain_shaded_texture;
+pub mod grain_shading;
 pub mod growth;
 pub mod knot;
 pub mod pith;
@@ -27,11 +31,13 @@ pub mod smin;
 
 pub use arl::{RingImage, ring_intensity};
 pub use base_colour::{BaseColour, WhiteBalance};
-pub use base_colour_texture::{BaseColourTexture, ColourSpace};
+pub use base_colour_texture::{BaseColourTexture, ColourSpace, base_colour_as_seen};
 pub use config::{
     DistortionConfig, FieldConfig, GrowthConfig, KnotConfig, PithConfig, RingsConfig,
 };
 pub use field_sample::{FieldSample, Strand};
+pub use grain_shaded_texture::GrainShaded;
+pub use grain_shading::GrainShading;
 pub use growth::{GrowthField, knot_union};
 pub use knot::{Knot, KnotSample};
 pub use pith::{Cylindrical, PithAxis};

@@ -282,6 +282,7 @@ mod tests {
             white_balance: WhiteBalance {
                 face_means: [[0.5; 3]; 6],
                 mean: [0.5; 3],
+                grain: None,
             },
         }
     }

@@ -12,7 +12,8 @@
 //! 4. Base colour ([`colour_fit`]) on the white-balanced photos ([`white_balance`]).
 //! 5. [`run`] ties it together; [`write`](mod@write) and [`sheet`] produce the files; [`metrics`]
 //!    measures accuracy; [`synthetic`] writes samples with known truth for tests.
-//! 6. [`fibre_direction`]: which way the fibres run, measured on the photos.
+//! 6. [`fibre_direction`]: which way the fibres run, measured on the photos;
+//!    [`grain_shading_fit`]: how much darker (or lighter) the photos show end grain.
 //!
 //! [`config`] is the fit config; its `[localiser]` section ([`localiser_config`]) configures
 //! `crate::rings`, which predicts ring images for faces without them before the fit runs.
@@ -27,6 +28,7 @@ pub mod config;
 pub mod contours;
 pub mod distortion;
 pub mod fibre_direction;
+pub mod grain_shading_fit;
 pub mod grey_map;
 pub mod grid_layout;
 pub mod iso_loss;

@@ -16,6 +16,7 @@ use super::config::{FitConfig, RingPeakConfig};
 use super::contours::{Contour, ContourSet, face_contours};
 use super::distortion::{LossParts, Step2, Step2Data, Step2Params};
 use super::fibre_direction::{FibreChoice, FibreMeasure, measure_fibre_direction};
+use super::grain_shading_fit::{ShadingEstimate, estimate_grain_shading};
 use super::grey_map::{self, GRange};
 use super::grid_layout::fitted_grid;
 use super::iso_loss::iso_loss;
@@ -72,6 +73,9 @@ pub struct FitResult {
     /// The fibre direction measured on the photos (stored in the field's `[pith]` when
     /// determined).
     pub fibre: Option<FibreMeasure>,
+    /// The grain shading estimated from the faces' mean colours (stored in the base colour's
+    /// white balance when the photos show it); `None` when the faces cannot determine it.
+    pub grain: Option<ShadingEstimate>,
     pub loss_log: Vec<LossRow>,
     /// Seconds per stage: contours, pith, distortion, colour.
     pub seconds: [f64; 4],
@@ -119,7 +123,15 @@ pub fn fit_sample(sample: &Sample, cfg: &FitConfig, progress: Progress) -> Resul
 
     let clock = Instant::now();
     let growth = GrowthField::from_config(&field);
-    field.base_colour = Some(fit_colour(sample, cfg, &growth, &mut log, progress));
+    let (colour, grain) = fit_colour(
+        sample,
+        cfg,
+        &growth,
+        field.pith.fibre_axis(),
+        &mut log,
+        progress,
+    );
+    field.base_colour = Some(colour);
     field.validate(&Checker::new(&sample.dir.join("fit.toml")))?;
     seconds[3] = clock.elapsed().as_secs_f64();
     let pith = step2.pith;
@@ -133,6 +145,7 @@ pub fn fit_sample(sample: &Sample, cfg: &FitConfig, progress: Progress) -> Resul
         contour_points: all.points.len(),
         field,
         fibre,
+        grain,
         loss_log: log,
         seconds,
     })
@@ -168,22 +181,31 @@ fn fit_distortions(
     (trial.step2, field)
 }
 
-/// The base colour of the fitted field on the white-balanced photos.
+/// The base colour of the fitted field on the white-balanced photos, and the grain shading
+/// estimated from the photos' means (kept in the white balance when they show it).
 fn fit_colour(
     sample: &Sample,
     cfg: &FitConfig,
     growth: &GrowthField,
+    fibre_axis: Vec3,
     log: &mut Vec<LossRow>,
     progress: Progress,
-) -> BaseColour {
-    let wb = white_balance(&sample.photos, &sample.faces);
+) -> (BaseColour, Option<ShadingEstimate>) {
+    let mut wb = white_balance(&sample.photos, &sample.faces);
+    let fitted_means: Vec<(Face, [f32; 3])> = sample
+        .faces
+        .iter()
+        .map(|&f| (f, wb.face_means[f.index()]))
+        .collect();
+    let grain = estimate_grain_shading(&fitted_means, fibre_axis);
+    wb.grain = grain.as_ref().and_then(ShadingEstimate::kept);
     let balanced: [Option<Image2>; 6] = std::array::from_fn(|f| {
         sample.photos[f]
             .as_ref()
             .map(|p| p.with_channels(3).balanced(&wb.face_means[f]))
     });
     let iterations = cfg.colour.iterations;
-    fit_base_colour(
+    let colour = fit_base_colour(
         growth,
         &balanced,
         &sample.faces,
@@ -202,7 +224,8 @@ fn fit_colour(
             });
             progress("colour", it, iterations);
         },
-    )
+    );
+    (colour, grain)
 }
 
 /// Contours of every used face; an error if there are too few to fit anything.

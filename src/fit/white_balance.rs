@@ -27,5 +27,9 @@ pub fn white_balance(photos: &[Option<Image2>; 6], faces: &[Face]) -> WhiteBalan
     for (f, m) in means {
         face_means[f.index()] = m;
     }
-    WhiteBalance { face_means, mean }
+    WhiteBalance {
+        face_means,
+        mean,
+        grain: None,
+    }
 }

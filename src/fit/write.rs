@@ -14,7 +14,7 @@ use super::run::FitResult;
 use super::sheet::{SheetRow, fit_sheet};
 use crate::config::write_config_copy;
 use crate::error::{Result, XylemError};
-use crate::field::{BaseColourTexture, ColourSpace, GrowthField, RingImage};
+use crate::field::{GrowthField, RingImage, base_colour_as_seen};
 use crate::frame::{Face, Plane};
 use crate::image2::Image2;
 use crate::io::{OutputDir, save_png, write_bytes_atomic};
@@ -46,13 +46,12 @@ pub fn write_fit(
             XylemError::numeric("fit", "the fit result has no base colour to write")
         })?;
     let rings = RingImage(&field);
-    let base_in = |space| BaseColourTexture::new(field.clone(), colour.clone(), space);
+    let base_in = |face| base_colour_as_seen(&field, colour.clone(), face);
     let mut rows = Vec::new();
     for face in Face::ALL {
         let used = faces.contains(&face);
         let fitted = slice_face(&rings, face, size);
-        let space = ColourSpace::Real(used.then_some(face));
-        let base = slice_face(&base_in(space), face, size);
+        let base = slice_face(&base_in(used.then_some(face)), face, size);
         save_png(&fitted, &out.path(format!("faces/{face}_arl.png")))?;
         save_png(&base, &out.path(format!("faces/{face}_base.png")))?;
         rows.push(SheetRow {
@@ -63,7 +62,7 @@ pub fn write_fit(
             held_out: !used,
         });
     }
-    let volume = base_in(ColourSpace::Real(None));
+    let volume = base_in(None);
     for (name, plane) in [("cut1", Plane::cut1()), ("cut2", Plane::cut2())] {
         save_png(
             &slice_plane(&rings, &plane, size, size),

@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use crate::config::ConfigFile;
-use crate::field::{BaseColourTexture, ColourSpace, FieldConfig, GrowthField};
+use crate::field::{BaseColourTexture, ColourSpace, FieldConfig, GrainShaded, GrowthField};
 use crate::frame::Face;
 use crate::image2::Image2;
 use crate::io::load_rgb;
@@ -19,8 +19,10 @@ use crate::{Result, XylemError};
 /// The textures and references of one finished run folder.
 pub struct Compared {
     pub fit: FieldConfig,
-    pub nca: Volume,
-    pub base: BaseColourTexture,
+    /// The NCA's volume, seen with the fit's grain shading.
+    pub nca: GrainShaded<Volume>,
+    /// The base colour at the sample's white balance, seen with the grain shading.
+    pub base: GrainShaded<BaseColourTexture>,
     pub procedural: ProceduralWood,
     /// Photos of the faces and, for a synthetic sample, the true cuts (SHEET_ROWS order).
     pub reference: Vec<Option<Image2>>,
@@ -33,7 +35,11 @@ impl Compared {
     /// field when the sample has no truth of its own.
     pub fn load(layout: &RunLayout, sample: &Path, species: &str) -> Result<Self> {
         let fit = FieldConfig::load(&layout.fit_file())?;
-        let nca = read_volume(&layout.volume())?;
+        let base = base_colour(&fit, &layout.fit_file())?;
+        let nca = GrainShaded::new(
+            read_volume(&layout.volume())?,
+            Some(&base.colour.white_balance),
+        );
         let truth = truth_species(sample)?;
         let synthetic = truth.is_some();
         let species = match truth {
@@ -41,7 +47,7 @@ impl Compared {
             None => species_on_field(species, &fit)?,
         };
         Ok(Self {
-            base: base_colour(&fit, &layout.fit_file())?,
+            base: GrainShaded::new(base.clone(), Some(&base.colour.white_balance)),
             procedural: ProceduralWood::new(&species),
             reference: reference_column(sample)?,
             synthetic,

@@ -10,6 +10,7 @@ use crate::Result;
 use crate::fit::fibre_direction::{
     AGREEMENT_DEG, FibreChoice, FibreMeasure, MAX_EIGEN_RATIO, MIN_EVIDENCE,
 };
+use crate::fit::grain_shading_fit::{MIN_T, ShadingEstimate};
 use crate::fit::run::total_steps;
 use crate::fit::{Display, FitConfig, FitResult, fit_sample, write_fit};
 use crate::frame::Face;
@@ -69,6 +70,7 @@ pub fn fit_into(options: &FitOptions, out: &Path, reporter: &dyn Reporter) -> Re
         result.iso_mm_step1, result.iso_mm_step2, result.contours,
     ));
     say_fibre(result.fibre.as_ref(), result.field.pith.direction, reporter);
+    say_grain(result.grain.as_ref(), reporter);
     reporter.say(&format!("wrote {}/fit.toml and sheet.png", out.display()));
     Ok(result)
 }
@@ -93,6 +95,32 @@ fn say_fibre(fibre: Option<&FibreMeasure>, axis: [f32; 3], reporter: &dyn Report
              the pith axis",
             m.evidence
         ),
+    });
+}
+
+/// Says whether the photos show end grain darker or lighter than side grain.
+fn say_grain(grain: Option<&ShadingEstimate>, reporter: &dyn Reporter) {
+    let Some(est) = grain else {
+        reporter.say("grain shading: the faces do not include both side and end grain");
+        return;
+    };
+    let m = &est.model;
+    let rgb = |c: [f32; 3]| c.map(|v| (v * 255.0).round() as i32);
+    let t = m.t_statistic;
+    reporter.say(&if est.is_shown() {
+        format!(
+            "grain shading: end grain RGB {:?}, side grain {:?} (|t| {:.1} >= {MIN_T}); held-out \
+             faces, cuts and renders are seen with it",
+            rgb(m.end),
+            rgb(m.side),
+            t.abs()
+        )
+    } else {
+        format!(
+            "grain shading not shown by the photos (|t| {:.1} < {MIN_T}: the faces' mean colours \
+             do not separate end from side grain); every surface gets the plain mean colour",
+            t.abs()
+        )
     });
 }
 

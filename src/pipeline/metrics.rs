@@ -17,7 +17,7 @@ use std::path::Path;
 use burn::tensor::Device;
 
 use crate::Result;
-use crate::field::{BaseColourTexture, ColourSpace, FieldConfig, GrowthField};
+use crate::field::{FieldConfig, GrowthField, base_colour_as_seen};
 use crate::frame::{Face, Plane};
 use crate::image2::Image2;
 use crate::io::load_rgb;
@@ -28,7 +28,6 @@ use crate::procedural::ProceduralWood;
 use crate::report::{MetricsTable, SHEET_ROWS, TRUTH_MARK, row_plane};
 use crate::slice::slice_plane;
 use crate::texture::SolidTexture;
-use crate::volume::Volume;
 
 /// One reference image and the plane it shows.
 struct Reference {
@@ -79,7 +78,7 @@ pub fn metrics_table(
     trained: &[Face],
     fit: &FieldConfig,
     procedural: &ProceduralWood,
-    nca: &Volume,
+    nca: &dyn SolidTexture,
     device: &Device,
 ) -> Result<MetricsTable> {
     let comparer = Comparer::new(&LossConfig::default_config(), device);
@@ -90,9 +89,9 @@ pub fn metrics_table(
     let procedural_name = &procedural_method(sample);
     let mut rows = Vec::new();
     for reference in references(sample, trained)? {
-        let base = colour
-            .clone()
-            .map(|c| BaseColourTexture::new(field.clone(), c, ColourSpace::Real(reference.face)));
+        let base = colour.clone().map(|c| {
+            base_colour_as_seen(&field, c, reference.face.filter(|f| trained.contains(f)))
+        });
         let mut methods: Vec<(&str, &dyn SolidTexture)> = vec![("nca", nca)];
         if let Some(b) = &base {
             methods.push(("base colour", b));

@@ -7,6 +7,7 @@ use super::reporter::Reporter;
 use crate::Result;
 use crate::config::write_config_copy;
 use crate::device::DeviceKind;
+use crate::field::GrainShaded;
 use crate::io::OutputDir;
 use crate::io::npy::write_volume;
 use crate::nca::config::Engine;
@@ -29,7 +30,8 @@ pub struct SynthStageOptions {
 }
 
 /// Unrolls the model in `model_dir` and writes `volume.npy` (float32 [N, N, N, 3], RGB, not
-/// clamped), the faces, cuts and cross, and `model.toml` into `out`.
+/// clamped, the plain colour at the sample's white balance), the faces, cuts and cross (seen
+/// with the fit's grain shading, when it has one), and `model.toml` into `out`.
 pub fn synth_into(
     model_dir: &Path,
     options: &SynthStageOptions,
@@ -53,7 +55,13 @@ pub fn synth_into(
     let range = ValueRange::of(&volume.data);
     reporter.note(&format!("colour values in {range} (not clamped)"));
     write_volume(&dir.path("volume.npy"), &volume)?;
-    SliceSet::render(&volume, size).write(&dir, "")?;
+    let white_balance = trained
+        .fit
+        .field
+        .base_colour
+        .as_ref()
+        .map(|c| &c.white_balance);
+    SliceSet::render(&GrainShaded::new(&volume, white_balance), size).write(&dir, "")?;
     write_config_copy(
         &dir.path("model.toml"),
         &trained.meta,

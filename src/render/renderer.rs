@@ -12,7 +12,7 @@ use super::shading::{SurfacePoint, linear_to_srgb, shade};
 use crate::frame::HALF;
 use crate::image2::Image2;
 use crate::rng::{hash3, unit};
-use crate::texture::{SolidTexture, with_values};
+use crate::texture::{SolidTexture, with_surface_values};
 
 /// What is rendered.
 // One Shape exists per render, so the mesh variant's size costs nothing worth a Box.
@@ -57,6 +57,17 @@ impl Shape {
         match self {
             Shape::Cube => inside,
             Shape::Mesh { world_to_cube, .. } => world_to_cube.transform_point3(inside),
+        }
+    }
+
+    /// The surface normal in texture (cube) coordinates, for textures whose look depends on
+    /// how the surface cuts the grain.
+    fn texture_normal(&self, hit: &Hit) -> Vec3 {
+        match self {
+            Shape::Cube => hit.normal,
+            Shape::Mesh { world_to_cube, .. } => world_to_cube
+                .transform_vector3(hit.normal)
+                .normalize_or_zero(),
         }
     }
 
@@ -119,7 +130,7 @@ fn trace(ray: &Ray, shape: &Shape, texture: &dyn SolidTexture, cfg: &RenderConfi
         return Vec3::from(cfg.background);
     };
     let p = shape.texture_point(&hit);
-    let (albedo, fibre) = with_values(texture, p, |v| {
+    let (albedo, fibre) = with_surface_values(texture, p, shape.texture_normal(&hit), |v| {
         let albedo = if v.len() >= 3 {
             Vec3::new(v[0], v[1], v[2])
         } else {

@@ -1,0 +1,164 @@
+//! Fits the grain shading (`field::grain_shading`) from the mean colours of the fitted faces:
+//! per channel a least-squares line m_f = side + (end - side) w_f over the faces' end-grain
+//! weights w_f = (n_f . t)^2.
+//!
+//! Six (or five) face means are few, and photos also differ by lighting: on H11 the two
+//! end-grain faces differ by 21-45 levels, one lighter and one darker than the side faces.
+//! So the line is kept only when the faces show it: the slope of their mean lightness must
+//! be at least `MIN_T` standard errors from zero (a t-test with n - 2 degrees of freedom,
+//! about 95 % two-sided for 4). Measured (BENCHMARKS.md): CN03 |t| 3.4 with six faces and
+//! 1.9-5.7 for the five-face subsets; H11 |t| 0.2-1.3 for every subset, so H11 keeps the
+//! plain mean.
+
+use glam::Vec3;
+
+use crate::field::GrainShading;
+use crate::frame::Face;
+
+/// Smallest |t| of the lightness slope for the shading to be kept.
+pub const MIN_T: f32 = 2.0;
+
+/// Smallest spread of the weights, sum of (w - mean w)^2: the faces must include side and
+/// end grain for a slope to mean anything (one end-grain face among five gives 0.8).
+const MIN_WEIGHT_SPREAD: f32 = 0.25;
+
+/// The fitted line, whether or not the photos show it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShadingEstimate {
+    pub model: GrainShading,
+}
+
+impl ShadingEstimate {
+    /// The photos show the shading: |t| >= `MIN_T`.
+    pub fn is_shown(&self) -> bool {
+        self.model.t_statistic.abs() >= MIN_T
+    }
+
+    /// The model when the photos show it.
+    pub fn kept(&self) -> Option<GrainShading> {
+        self.is_shown().then(|| self.model.clone())
+    }
+}
+
+/// The estimate from the mean real RGB of each fitted face and the fibre direction; `None`
+/// when the faces cannot determine it (fewer than 3 faces, or all of one kind of grain).
+pub fn estimate_grain_shading(
+    face_means: &[(Face, [f32; 3])],
+    fibre: Vec3,
+) -> Option<ShadingEstimate> {
+    let t = fibre.try_normalize()?;
+    let n = face_means.len();
+    if n < 3 {
+        return None;
+    }
+    let w: Vec<f32> = face_means
+        .iter()
+        .map(|(f, _)| f.normal().dot(t).powi(2))
+        .collect();
+    let w_mean = w.iter().sum::<f32>() / n as f32;
+    let spread: f32 = w.iter().map(|x| (x - w_mean).powi(2)).sum();
+    if spread < MIN_WEIGHT_SPREAD {
+        return None;
+    }
+    let channel = |c: usize| -> Vec<f32> { face_means.iter().map(|(_, m)| m[c]).collect() };
+    let lines: [(f32, f32); 3] = std::array::from_fn(|c| line(&w, &channel(c), w_mean, spread));
+    let lightness: Vec<f32> = face_means
+        .iter()
+        .map(|(_, m)| (m[0] + m[1] + m[2]) / 3.0)
+        .collect();
+    let t_statistic = slope_t(&w, &lightness, w_mean, spread);
+    let clamp = |v: f32| v.clamp(1e-4, 1.0);
+    Some(ShadingEstimate {
+        model: GrainShading {
+            fibre: t.into(),
+            side: lines.map(|(a, _)| clamp(a)),
+            end: lines.map(|(a, b)| clamp(a + b)),
+            t_statistic,
+        },
+    })
+}
+
+/// Least-squares intercept and slope of y over x (`x_mean`, `spread` = sum (x - x_mean)^2).
+fn line(x: &[f32], y: &[f32], x_mean: f32, spread: f32) -> (f32, f32) {
+    let y_mean = y.iter().sum::<f32>() / y.len() as f32;
+    let cov: f32 = x
+        .iter()
+        .zip(y)
+        .map(|(a, b)| (a - x_mean) * (b - y_mean))
+        .sum();
+    let slope = cov / spread;
+    (y_mean - slope * x_mean, slope)
+}
+
+/// Slope of y over x divided by its standard error (n - 2 degrees of freedom); a perfect fit
+/// gives a large finite value with the slope's sign.
+fn slope_t(x: &[f32], y: &[f32], x_mean: f32, spread: f32) -> f32 {
+    let (a, b) = line(x, y, x_mean, spread);
+    let rss: f32 = x.iter().zip(y).map(|(u, v)| (v - a - b * u).powi(2)).sum();
+    let dof = (x.len() - 2) as f32;
+    let se = (rss / dof / spread).sqrt();
+    if se > 0.0 {
+        (b / se).clamp(-1e6, 1e6)
+    } else if b == 0.0 {
+        0.0
+    } else {
+        1e6 * b.signum()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Face means of a cube with fibres along y whose end grain is `end` and side grain
+    /// `side`, each face with a lighting error from `noise`.
+    fn means(side: [f32; 3], end: [f32; 3], noise: [f32; 6]) -> Vec<(Face, [f32; 3])> {
+        Face::ALL
+            .iter()
+            .map(|&f| {
+                let w = f.normal().dot(Vec3::Y).powi(2);
+                let m =
+                    std::array::from_fn(|c| side[c] + (end[c] - side[c]) * w + noise[f.index()]);
+                (f, m)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_clear_end_grain_darkening_is_recovered() {
+        let (side, end) = ([0.75, 0.62, 0.5], [0.62, 0.52, 0.44]);
+        let noise = [0.01, -0.012, 0.008, 0.01, -0.015, 0.004];
+        let est = estimate_grain_shading(&means(side, end, noise), Vec3::Y).unwrap();
+        assert!(est.is_shown(), "t = {}", est.model.t_statistic);
+        assert!(est.model.t_statistic < 0.0);
+        for c in 0..3 {
+            assert!(
+                (est.model.side[c] - side[c]).abs() < 0.015,
+                "{:?}",
+                est.model
+            );
+            assert!((est.model.end[c] - end[c]).abs() < 0.02, "{:?}", est.model);
+        }
+    }
+
+    #[test]
+    fn lighting_differences_alone_are_not_taken_for_grain_shading() {
+        // H11-like: one end-grain face lighter, the other darker than the side faces.
+        let grey = [0.8; 3];
+        let noise = [0.05, 0.03, -0.09, -0.08, 0.06, -0.02];
+        let est = estimate_grain_shading(&means(grey, grey, noise), Vec3::Y).unwrap();
+        assert!(!est.is_shown(), "t = {}", est.model.t_statistic);
+        assert!(est.kept().is_none());
+    }
+
+    #[test]
+    fn faces_of_one_kind_of_grain_determine_nothing() {
+        let m = means([0.7; 3], [0.5; 3], [0.0; 6]);
+        let side_only: Vec<_> = m
+            .into_iter()
+            .filter(|(f, _)| !matches!(f, Face::B | Face::D))
+            .collect();
+        assert!(estimate_grain_shading(&side_only, Vec3::Y).is_none());
+        assert!(estimate_grain_shading(&side_only[..2], Vec3::Y).is_none());
+    }
+}
