@@ -28,6 +28,7 @@ use xylem::fit::{FitConfig, fit_sample, write_synthetic_sample};
 use xylem::frame::Face;
 use xylem::image2::Image2;
 use xylem::io::save_png;
+use xylem::procedural::SpeciesConfig;
 use xylem::rng::Rng;
 use xylem::sample::{Needs, Sample};
 use xylem::slice::slice_face;
@@ -350,6 +351,10 @@ fn quick_config() -> FitConfig {
     cfg.distortion.trial_iterations = 10;
     cfg.distortion.image_stride = 3;
     cfg.colour.iterations = 10;
+    // The inverse procedural fit is tested on its own (below); two presets and one round
+    // keep the other fits quick.
+    cfg.procedural.presets = vec!["chestnut".into(), "maple".into()];
+    cfg.procedural.rounds = 1;
     cfg
 }
 
@@ -455,10 +460,18 @@ fn cli_fit_writes_every_listed_file_and_a_loadable_field() {
     for c in ["cut1", "cut2"] {
         files.push(format!("cuts/{c}_arl.png"));
         files.push(format!("cuts/{c}_base.png"));
+        files.push(format!("cuts/{c}_procedural.png"));
+    }
+    files.push("procedural.toml".into());
+    for f in Face::ALL {
+        files.push(format!("faces/{f}_procedural.png"));
     }
     for f in &files {
         assert!(out.join(f).is_file(), "missing {f}");
     }
+    // The fitted procedural model is a species config `xylem procedural --config` loads.
+    let species = SpeciesConfig::load(&out.join("procedural.toml")).unwrap();
+    assert!(["chestnut", "maple"].contains(&species.name.as_str()));
     let fitted = FieldConfig::load(&out.join("fit.toml")).unwrap();
     assert!(fitted.base_colour.is_some() && fitted.growth.rates.is_some());
     assert_eq!(fitted.knots.len(), 1);
@@ -734,5 +747,54 @@ fn fit_recovers_a_known_end_grain_factor() {
     assert!(!estimate.is_shown(), "{estimate:?}");
     let wb = &unshaded.field.base_colour.as_ref().unwrap().white_balance;
     assert!(wb.grain.is_none());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Issue 14: the inverse procedural fit on a sample of a preset finds that preset and comes
+/// back near its parameters (the numbers are printed for BENCHMARKS.md).
+#[test]
+fn inverse_procedural_recovers_the_preset_of_its_own_sample() {
+    use xylem::fit::ProceduralFitConfig;
+    use xylem::fit::procedural_fit::fit_procedural;
+    use xylem::metrics::Comparer;
+    let dir = common::scratch("fit-inverse-procedural");
+    let truth = xylem::presets::load_species_preset("chestnut").unwrap();
+    let out = xylem::io::OutputDir::prepare(&dir).unwrap();
+    xylem::procedural::synthetic::write_sample(&truth, "test", 64, &out).unwrap();
+    let sample = load_all(&dir);
+    let field = fit_sample(&sample, &quick_config(), &mut |_, _, _| {})
+        .unwrap()
+        .field;
+    let photos: Vec<(Face, &Image2)> = Face::ALL
+        .iter()
+        .map(|&f| (f, sample.photo(f).unwrap()))
+        .collect();
+    let cfg = ProceduralFitConfig {
+        rounds: 2,
+        ..ProceduralFitConfig::default()
+    };
+    let device = xylem::device::DeviceKind::Flex.device();
+    let comparer = Comparer::new(&xylem::loss::LossConfig::default_config(), &device);
+    let fitted = fit_procedural(&photos, &field, &cfg, &comparer, |_, _| {})
+        .unwrap()
+        .unwrap();
+    for c in &fitted.candidates {
+        eprintln!(
+            "{}: style {:.3}, phase offset {:+.2} (corr {:.2}), {}",
+            c.preset,
+            c.style,
+            c.species.rings.phase_offset,
+            c.phase_correlation,
+            xylem::fit::procedural_search::describe(&c.species)
+        );
+    }
+    let best = &fitted.best;
+    assert_eq!(best.preset, "chestnut");
+    let offset = best.species.rings.phase_offset;
+    // 0.2 years: about a pixel here (some 11 rings across a 64 px face), the precision of
+    // the quick fit's ring positions at this size.
+    assert!(offset.abs() <= 0.2, "phase offset {offset}");
+    let opacity = best.species.pores.as_ref().unwrap().opacity;
+    assert!((opacity - 0.95).abs() <= 0.2, "pore opacity {opacity}");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -53,8 +53,9 @@ pub struct RunArgs {
     /// elsewhere, so six photos are enough), given, or predict (see `xylem rings`).
     #[arg(long, default_value = "auto", value_name = "SOURCE", value_parser = super::output_args::ring_source)]
     pub rings: RingSource,
-    /// Species whose procedural colours are shown on the fitted field in the sheet (a
-    /// synthetic sample shows its own truth instead).
+    /// Species preset shown on the fitted field in the sheet's procedural column when the fit
+    /// wrote no procedural.toml (its `[procedural] presets = []`); by default the fit chooses
+    /// and fits a preset itself (inverse procedural), and a synthetic sample shows its truth.
     #[arg(long, default_value = "chestnut", value_parser = super::presets::species_name)]
     pub species: String,
     /// NCA unroll steps of the synthesis (90, as the Mokume paper's inference).

@@ -21,6 +21,59 @@ pub struct FitConfig {
     pub colour: ColourFitConfig,
     /// The ring localiser, for faces without ring images (`crate::rings`).
     pub localiser: LocaliserConfig,
+    /// The inverse procedural fit (`fit::procedural_fit`).
+    pub procedural: ProceduralFitConfig,
+}
+
+/// The inverse procedural fit: which presets are tried, at what size, how long the search is.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ProceduralFitConfig {
+    /// Species presets tried (the lowest style loss wins); empty: no procedural fit, and
+    /// `xylem run` shows its `--species` preset on the fitted field instead. `burl` is left
+    /// out by default: a figure rather than a species, and 30x slower to render.
+    pub presets: Vec<String>,
+    /// Face side (pixels) at which candidates are searched; photos larger are box-filtered.
+    pub search_size: usize,
+    /// Rounds of the appearance parameters' pattern search (0: phase and colour only).
+    pub rounds: usize,
+}
+
+impl Default for ProceduralFitConfig {
+    fn default() -> Self {
+        Self {
+            presets: ["oak", "chestnut", "maple", "walnut", "softwood"]
+                .map(String::from)
+                .to_vec(),
+            search_size: 128,
+            rounds: 3,
+        }
+    }
+}
+
+impl ProceduralFitConfig {
+    pub fn validate(&self, check: &Checker) -> Result<()> {
+        for (i, name) in self.presets.iter().enumerate() {
+            if crate::presets::species_preset(name).is_none() {
+                return Err(check.error(
+                    &format!("presets[{i}]"),
+                    format!(
+                        "= {:?}: not a species preset (one of {})",
+                        name,
+                        crate::presets::species_preset_names().join(", ")
+                    ),
+                ));
+            }
+        }
+        check.count(
+            "search_size",
+            self.search_size,
+            16,
+            1024,
+            "a face side in pixels",
+        )?;
+        check.count("rounds", self.rounds, 0, 10, "search rounds")
+    }
 }
 
 /// Contour extraction from the ring localisation images (Mokume 5.1.2, DESIGN section 5).
@@ -261,7 +314,8 @@ impl ConfigFile for FitConfig {
         self.rings.validate(&check.nested("rings"))?;
         self.knots.validate(&check.nested("knots"))?;
         self.colour.validate(&check.nested("colour"))?;
-        self.localiser.validate(&check.nested("localiser"))
+        self.localiser.validate(&check.nested("localiser"))?;
+        self.procedural.validate(&check.nested("procedural"))
     }
 }
 

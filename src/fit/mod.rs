@@ -14,6 +14,9 @@
 //!    measures accuracy; [`synthetic`] writes samples with known truth for tests.
 //! 6. [`fibre_direction`]: which way the fibres run, measured on the photos;
 //!    [`grain_shading_fit`]: how much darker (or lighter) the photos show end grain.
+//! 7. [`procedural_fit`]: the procedural model's preset, ring phase and colours fitted to the
+//!    photos on the fitted field (inverse procedural), searching [`procedural_search`]'s
+//!    appearance parameters.
 //!
 //! [`config`] is the fit config; its `[localiser]` section ([`localiser_config`]) configures
 //! `crate::rings`, which predicts ring images for faces without them before the fit runs.
@@ -38,6 +41,8 @@ pub mod localiser_config;
 pub mod metrics;
 pub mod pith_descent;
 pub mod pith_search;
+pub mod procedural_fit;
+pub mod procedural_search;
 pub mod ring_peaks;
 pub mod run;
 pub mod sheet;
@@ -46,7 +51,7 @@ pub mod synthetic;
 pub mod white_balance;
 pub mod write;
 
-pub use config::FitConfig;
+pub use config::{FitConfig, ProceduralFitConfig};
 pub use run::{FitResult, fit_sample};
 pub use synthetic::write_synthetic_sample;
 pub use write::{Display, write_fit};

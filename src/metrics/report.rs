@@ -140,6 +140,13 @@ impl Comparer {
         })
     }
 
+    /// The style loss of `candidate` against `reference` alone (the `style` of
+    /// [`Self::compare`]), for searches that score many candidates.
+    pub fn style(&self, reference: &Image2, candidate: &Image2) -> Result<f32> {
+        let candidate = match_size(reference, candidate)?;
+        self.style_loss(&reference.with_channels(3), &candidate)
+    }
+
     fn style_loss(&self, reference: &Image2, candidate: &Image2) -> Result<f32> {
         let targets = self.style.targets(std::slice::from_ref(reference))?;
         let generated = image_to_tensor(candidate, &self.device);

@@ -4,6 +4,7 @@
 
 use std::path::Path;
 
+use super::procedural_step::PROCEDURAL_FILE;
 use crate::config::ConfigFile;
 use crate::field::{BaseColourTexture, ColourSpace, FieldConfig, GrainShaded, GrowthField};
 use crate::frame::Face;
@@ -23,7 +24,10 @@ pub struct Compared {
     pub nca: GrainShaded<Volume>,
     /// The base colour at the sample's white balance, seen with the grain shading.
     pub base: GrainShaded<BaseColourTexture>,
-    pub procedural: ProceduralWood,
+    /// The procedural model: the truth of a synthetic sample; otherwise the fit's
+    /// `procedural.toml` (seen with the grain shading: its colours are matched to the photos'
+    /// mean), or without one the `species` preset on the fitted field.
+    pub procedural: GrainShaded<ProceduralWood>,
     /// Photos of the faces and, for a synthetic sample, the true cuts (SHEET_ROWS order).
     pub reference: Vec<Option<Image2>>,
     /// The sample is synthetic: its procedural model is the truth.
@@ -42,13 +46,18 @@ impl Compared {
         );
         let truth = truth_species(sample)?;
         let synthetic = truth.is_some();
-        let species = match truth {
-            Some(t) => t,
-            None => species_on_field(species, &fit)?,
+        let fitted = layout.fit_dir().join(PROCEDURAL_FILE);
+        let procedural = match truth {
+            Some(t) => GrainShaded::new(ProceduralWood::new(&t), None),
+            None if fitted.is_file() => GrainShaded::new(
+                ProceduralWood::new(&SpeciesConfig::load(&fitted)?),
+                Some(&base.colour.white_balance),
+            ),
+            None => GrainShaded::new(ProceduralWood::new(&species_on_field(species, &fit)?), None),
         };
         Ok(Self {
             base: GrainShaded::new(base.clone(), Some(&base.colour.white_balance)),
-            procedural: ProceduralWood::new(&species),
+            procedural,
             reference: reference_column(sample)?,
             synthetic,
             fit,

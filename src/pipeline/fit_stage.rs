@@ -5,6 +5,7 @@ use std::path::Path;
 
 use glam::Vec3;
 
+use super::procedural_step::fit_and_write_procedural;
 use super::reporter::Reporter;
 use crate::Result;
 use crate::fit::fibre_direction::{
@@ -54,6 +55,15 @@ pub fn fit_into(options: &FitOptions, out: &Path, reporter: &dyn Reporter) -> Re
         .map_err(|e| e.during(format!("fitting {}", options.sample.display())))?;
     bar.finish();
 
+    let source = options.sample.display().to_string();
+    fit_and_write_procedural(
+        &sample,
+        &result.field,
+        &cfg.procedural,
+        &dir,
+        &source,
+        reporter,
+    )?;
     write_fit(
         &dir,
         &result,
@@ -61,7 +71,7 @@ pub fn fit_into(options: &FitOptions, out: &Path, reporter: &dyn Reporter) -> Re
         &sample.faces,
         &display_images(&sample),
         sample.size,
-        &options.sample.display().to_string(),
+        &source,
     )?;
     let seconds = result.seconds.iter().sum::<f64>();
     reporter.say(&format!(

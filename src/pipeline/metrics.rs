@@ -24,7 +24,6 @@ use crate::io::load_rgb;
 use crate::loss::LossConfig;
 use crate::metrics::phase_density::{PhaseDensity, curve_correlation};
 use crate::metrics::{Comparer, METRIC_NAMES};
-use crate::procedural::ProceduralWood;
 use crate::report::{MetricsTable, SHEET_ROWS, TRUTH_MARK, row_plane};
 use crate::slice::slice_plane;
 use crate::texture::SolidTexture;
@@ -77,7 +76,7 @@ pub fn metrics_table(
     sample: &Path,
     trained: &[Face],
     fit: &FieldConfig,
-    procedural: &ProceduralWood,
+    procedural: &dyn SolidTexture,
     nca: &dyn SolidTexture,
     device: &Device,
 ) -> Result<MetricsTable> {

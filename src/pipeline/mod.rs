@@ -8,6 +8,7 @@ mod compared;
 mod demo;
 mod fit_stage;
 mod metrics;
+mod procedural_step;
 mod reporter;
 mod run;
 mod run_images;

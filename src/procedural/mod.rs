@@ -17,6 +17,7 @@
 //! - [`model`]: the model itself ([`ProceduralWood`], a `SolidTexture`).
 //! - [`direction`]: the fibre direction implied by the distortions (extra channels).
 //! - [`synthetic`]: sample folders in the Mokume layout with their hidden truth.
+//! - [`recolour`]: a config with every colour scaled (the inverse procedural fit's palette).
 //!
 //! Every random choice is a hash of the species seed (and of the field's own seed for its
 //! distortion): the same point always gets the same colour, on any thread.
@@ -35,6 +36,7 @@ pub mod noise;
 pub mod pigment;
 pub mod pores;
 pub mod rays;
+pub mod recolour;
 pub mod rings;
 pub mod synthetic;
 pub mod tree;

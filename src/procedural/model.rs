@@ -61,6 +61,8 @@ pub struct ProceduralWood {
     knots: Option<KnotColour>,
     figure: Option<Figure>,
     burl: Option<Burl>,
+    /// `rings.phase_offset`: years added to G before the ring phase.
+    phase_offset: f32,
 }
 
 /// Everything the model computes at one lookup point.
@@ -107,6 +109,7 @@ impl ProceduralWood {
                 rings.colour_variation,
             ),
             rings: Rings::new(rings),
+            phase_offset: rings.phase_offset,
             pigment: cfg
                 .pigment
                 .as_ref()
@@ -171,7 +174,7 @@ impl ProceduralWood {
     pub fn sample_at(&self, q: Vec3) -> WoodSample {
         let field = self.field.sample(q);
         let tree = TreePoint::new(&self.field.pith, q);
-        let time = self.years.time(field.g);
+        let time = self.years.time(field.g + self.phase_offset);
         let phase = fract(time);
         let latewood = self.rings.latewood(phase);
         let knot = self.knots.as_ref().map_or(0.0, |k| k.mask(&field));
@@ -179,7 +182,8 @@ impl ProceduralWood {
         let rho = field.g / self.field.years_per_unit;
         let pore = match &self.pores {
             Some(p) if outside => {
-                p.weight(&tree, rho, &self.years, self.field.years_per_unit, || {
+                let years = (&self.years, self.phase_offset);
+                p.weight(&tree, rho, years, self.field.years_per_unit, || {
                     self.radial_rate(&tree)
                 })
             }

@@ -157,16 +157,17 @@ impl Pores {
     }
 
     /// Pore weight in [0, 1] at a tree point with undistorted radius `rho` = G /
-    /// years_per_unit. `years` and `years_per_unit` give the ring phase at the pore's centre.
-    #[inline]
+    /// years_per_unit. `years`, the phase offset (years added to G) and `years_per_unit`
+    /// give the ring phase at the pore's centre.
     ///
     /// `radial_rate` gives d rho / d r at the point (the local growth rate); it is only called
     /// for points next to a pore, since it costs a rate-grid evaluation.
+    #[inline]
     pub fn weight(
         &self,
         tree: &TreePoint,
         rho: f32,
-        years: &YearTable,
+        (years, phase_offset): (&YearTable, f32),
         years_per_unit: f32,
         radial_rate: impl FnOnce() -> f32,
     ) -> f32 {
@@ -179,7 +180,7 @@ impl Pores {
         }
         let cell = self.cells.locate(rho, phi, tree.h);
         let centre = cell.centre(self.cells.size, self.largest);
-        let time = years.time((cell.rho0 + centre.x) * years_per_unit);
+        let time = years.time((cell.rho0 + centre.x) * years_per_unit + phase_offset);
         let zone = self.zone_weight(fract(time));
         let occurrence = self.occurrence[1] + (self.occurrence[0] - self.occurrence[1]) * zone;
         let numbers = hash_units3(cell.hash ^ 0x504f);

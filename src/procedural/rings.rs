@@ -45,6 +45,18 @@ pub struct RingConfig {
     /// years), Beer's-law style.
     #[serde(default)]
     pub colour_variation: f32,
+    /// Years added to G before the ring phase is taken: moves earlywood, latewood and the
+    /// pore zone along each ring while the ring images (integer G) stay. 0 for the presets,
+    /// whose ring boundary is at integer G like a synthetic sample's ring lines; the inverse
+    /// procedural fit sets it for photographed samples, whose ring images (the Mokume
+    /// U-Net's) lie on the earlywood pore band instead (CN03: pores at phases 0.6-1.0 of the
+    /// fitted field).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub phase_offset: f32,
+}
+
+fn is_zero(v: &f32) -> bool {
+    *v == 0.0
 }
 
 fn default_smooth() -> f32 {
@@ -84,6 +96,13 @@ impl RingConfig {
             0.0,
             self.transition[0].max(0.0),
             "a ring phase no later than transition[0]",
+        )?;
+        check.range(
+            "phase_offset",
+            self.phase_offset,
+            -1.0,
+            1.0,
+            "years (a ring phase shift)",
         )?;
         check.range(
             "width_variation",
@@ -179,6 +198,7 @@ mod tests {
             boundary,
             width_variation: 0.0,
             width_correlation: 0.5,
+            phase_offset: 0.0,
             colour_variation: 0.0,
         })
     }

@@ -1,0 +1,87 @@
+//! The fit stage's inverse procedural step: the procedural model fitted to the photos on the
+//! fitted field (`fit::procedural_fit`), written as `procedural.toml` (a species config for
+//! `xylem procedural --config`) with its faces and cuts beside the fit's (seen with the fit's
+//! grain shading, like the base colour's).
+
+use super::reporter::Reporter;
+use crate::Result;
+use crate::config::write_config_copy;
+use crate::device::DeviceKind;
+use crate::field::{FieldConfig, GrainShaded};
+use crate::fit::ProceduralFitConfig;
+use crate::fit::procedural_fit::{ProceduralFit, fit_procedural};
+use crate::fit::procedural_search::describe;
+use crate::frame::{Face, Plane};
+use crate::io::{OutputDir, save_png};
+use crate::loss::LossConfig;
+use crate::metrics::Comparer;
+use crate::procedural::ProceduralWood;
+use crate::sample::Sample;
+use crate::slice::{slice_face, slice_plane};
+use crate::texture::FirstChannels;
+
+/// File name of the fitted procedural config inside a fit folder.
+pub const PROCEDURAL_FILE: &str = "procedural.toml";
+
+/// Fits the procedural model to the fitted faces of `sample` on `field` and writes
+/// `procedural.toml`, `faces/X_procedural.png` and `cuts/cutN_procedural.png` into `dir`
+/// at `size` pixels; says which preset won.
+pub fn fit_and_write_procedural(
+    sample: &Sample,
+    field: &FieldConfig,
+    cfg: &ProceduralFitConfig,
+    dir: &OutputDir,
+    source: &str,
+    reporter: &dyn Reporter,
+) -> Result<Option<ProceduralFit>> {
+    let photos: Vec<(Face, &crate::image2::Image2)> = sample
+        .faces
+        .iter()
+        .filter_map(|&f| sample.photo(f).map(|p| (f, p)))
+        .collect();
+    let comparer = Comparer::new(&LossConfig::default_config(), &DeviceKind::Flex.device());
+    let presets = cfg.presets.len() as u64;
+    let bar = reporter.counter("procedural fit", presets);
+    let fitted = fit_procedural(&photos, field, cfg, &comparer, |done, _| {
+        bar.set_position(done as u64)
+    })?;
+    bar.finish();
+    let Some(fitted) = fitted else {
+        return Ok(None);
+    };
+    let species = &fitted.best.species;
+    write_config_copy(&dir.path(PROCEDURAL_FILE), species, source)?;
+    let wood = ProceduralWood::new(species);
+    let rgb = FirstChannels { inner: &wood, n: 3 };
+    // Seen with the grain shading, as the run's sheet shows it.
+    let white_balance = field.base_colour.as_ref().map(|c| &c.white_balance);
+    let rgb = GrainShaded::new(rgb, white_balance);
+    let size = sample.size;
+    for face in Face::ALL {
+        let path = dir.path(format!("faces/{face}_procedural.png"));
+        save_png(&slice_face(&rgb, face, size), &path)?;
+    }
+    for (name, plane) in [("cut1", Plane::cut1()), ("cut2", Plane::cut2())] {
+        let path = dir.path(format!("cuts/{name}_procedural.png"));
+        save_png(&slice_plane(&rgb, &plane, size, size), &path)?;
+    }
+    let scores: Vec<String> = fitted
+        .candidates
+        .iter()
+        .map(|c| {
+            let offset = c.species.rings.phase_offset;
+            format!("{} {:.3} (phase {offset:+.2})", c.preset, c.style)
+        })
+        .collect();
+    reporter.say(&format!(
+        "procedural model fitted: preset {} (style loss by preset: {}), ring phase offset \
+         {:+.2} years (pore curves correlate {:.2}), {}, colours matched to the photos' \
+         mean; wrote procedural.toml",
+        fitted.best.preset,
+        scores.join(", "),
+        species.rings.phase_offset,
+        fitted.best.phase_correlation,
+        describe(species)
+    ));
+    Ok(Some(fitted))
+}
