@@ -177,11 +177,21 @@ fn check_optimiser_record(bytes: &[u8], model: &Nca, path: &Path) -> Result<()> 
     for tensor in reader.into_tensors().map_err(|e| bad(format!("{e:?}")))? {
         let (name, _, shape, param_id, _) =
             tensor.into_parts().map_err(|e| bad(format!("{e:?}")))?;
+        // The loader reads a tensor by its name, "<parameter id>.momentum.moment_N", into a
+        // slot of that parameter's rank: the name's parameter must have the tensor's shape
+        // too, not only the one its `param_id` field names (a file whose name and field
+        // disagree made burn panic on a rank mismatch).
+        let by_name = name
+            .split('.')
+            .next()
+            .and_then(|id| id.parse::<u64>().ok())
+            .and_then(shape_of);
         let expected = param_id.and_then(shape_of);
-        if expected.map(Vec::as_slice) != Some(shape.as_slice()) {
+        let shape = Some(shape.as_slice());
+        if expected.map(Vec::as_slice) != shape || by_name.map(Vec::as_slice) != shape {
             return Err(bad(format!(
                 "tensor {name:?} of shape {:?} belongs to no parameter of that shape",
-                shape.as_slice()
+                shape.unwrap_or_default()
             )));
         }
     }
@@ -275,4 +285,37 @@ pub fn load(root: &Path, trainer: &mut Trainer) -> Result<Vec<LossRow>> {
         ));
     }
     Ok(rows)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::device::DeviceKind;
+    use crate::nca::config::ModelSpec;
+    use burn::store::burn_pack::{DType, Scalar, Tensor as PackTensor, Writer};
+
+    /// A moment tensor stored under the bias b1's name but with the shape and `param_id` of
+    /// the weight w2: the loader would read it into b1's rank-1 slot and burn panicked on the
+    /// rank (found by the reliability fuzz); the check refuses it instead.
+    #[test]
+    fn a_moment_named_for_one_parameter_but_shaped_like_another_is_refused() {
+        let device = DeviceKind::Flex.device();
+        let model = Nca::init(&ModelSpec::default(), 1, &device);
+        let (b1, w2) = (model.b1.id.val(), model.w2.id.val());
+        let shape = model.w2.dims().to_vec();
+        let bytes = vec![0u8; 4 * shape.iter().product::<usize>()];
+        let moment = PackTensor::new(
+            format!("{b1}.momentum.moment_1"),
+            DType::F32,
+            shape,
+            Some(w2),
+            Bytes::from_bytes_vec(bytes),
+        );
+        let file = Writer::new(vec![moment])
+            .with_scalar(&format!("{b1}.__rank"), Scalar::UInt(1))
+            .into_bytes()
+            .unwrap();
+        let err = check_optimiser_record(&file, &model, Path::new("optimiser.bpk")).unwrap_err();
+        assert!(err.to_string().contains("belongs to no parameter"), "{err}");
+    }
 }
