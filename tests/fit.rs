@@ -798,3 +798,49 @@ fn inverse_procedural_recovers_the_preset_of_its_own_sample() {
     assert!((opacity - 0.95).abs() <= 0.2, "pore opacity {opacity}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Issue 14: a sample whose knot was photographed in another colour than its preset's gets
+/// that colour back: the inverse procedural fit matches the knots' colour on its own.
+#[test]
+fn inverse_procedural_matches_the_knot_colour() {
+    use xylem::fit::ProceduralFitConfig;
+    use xylem::fit::procedural_fit::fit_procedural;
+    use xylem::metrics::Comparer;
+    let dir = common::scratch("fit-knot-colour");
+    let preset = xylem::presets::load_species_preset("softwood").unwrap();
+    // The truth's knots are half as bright per channel as the preset's.
+    let truth = preset.recoloured_knots([0.5; 3]);
+    let out = xylem::io::OutputDir::prepare(&dir).unwrap();
+    xylem::procedural::synthetic::write_sample(&truth, "test", 64, &out).unwrap();
+    let sample = load_all(&dir);
+    // The true field, so that the test measures the colour match, not the knot fit.
+    let field = truth.field_config();
+    let photos: Vec<(Face, &Image2)> = Face::ALL
+        .iter()
+        .map(|&f| (f, sample.photo(f).unwrap()))
+        .collect();
+    let cfg = ProceduralFitConfig {
+        presets: vec!["softwood".into()],
+        rounds: 0,
+        ..ProceduralFitConfig::default()
+    };
+    let device = xylem::device::DeviceKind::Flex.device();
+    let comparer = Comparer::new(&xylem::loss::LossConfig::default_config(), &device);
+    let fitted = fit_procedural(&photos, &field, &cfg, &comparer, |_, _| {})
+        .unwrap()
+        .unwrap();
+    let stop = |s: &xylem::procedural::SpeciesConfig| s.knot_colour.map.stops[1];
+    let (got, was, want) = (stop(&fitted.best.species), stop(&preset), stop(&truth));
+    eprintln!("knot map stop: fitted {got:?}, preset {was:?}, truth {want:?}");
+    for c in 1..4 {
+        // Closer to the truth than the preset is, by at least half the distance.
+        assert!(
+            (got[c] - want[c]).abs() < 0.5 * (was[c] - want[c]).abs(),
+            "channel {c}: fitted {}, preset {}, truth {}",
+            got[c],
+            was[c],
+            want[c]
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -15,7 +15,8 @@
 //! 3. every colour scaled per channel so the mean colour of its faces matches the photos'
 //!    (`COLOUR_ROUNDS` fixed-point rounds: scaling clamps and the pores' opacity mixes);
 //! 4. pore contrast and occurrence, fibre contrast and pigment noise by a pattern search on
-//!    the style loss (`procedural_search`), then the colours matched again;
+//!    the style loss (`procedural_search`), then the colours matched again, and the knots'
+//!    colours alone matched to the photos' inside the knots;
 //! 5. the score: the style loss (`xylem compare`'s) averaged over the fitted faces at the
 //!    photos' own size.
 //!
@@ -50,6 +51,9 @@ pub const MIN_PHASE_CORRELATION: f32 = 0.3;
 
 /// Rounds of the mean-colour match.
 const COLOUR_ROUNDS: usize = 3;
+
+/// Fewest knot pixels on the faces (at the search size) for the knot colours to be matched.
+const MIN_KNOT_PIXELS: usize = 64;
 
 /// One preset as fitted, with its score.
 #[derive(Clone, Debug)]
@@ -163,6 +167,20 @@ impl Targets {
             .collect()
     }
 
+    /// Per face, row-major: the pixels inside a knot of the model (membership > 0.5).
+    fn knot_masks(&self, species: &SpeciesConfig) -> Vec<Vec<bool>> {
+        let wood = ProceduralWood::new(species);
+        let n = self.size;
+        self.photos
+            .iter()
+            .map(|(f, _)| {
+                (0..n * n)
+                    .map(|i| wood.sample(f.pixel_point(i / n, i % n, n)).knot > 0.5)
+                    .collect()
+            })
+            .collect()
+    }
+
     /// Mean style loss over the faces at the photos' own size (the candidates' score).
     fn full_size_style(&self, species: &SpeciesConfig, comparer: &Comparer) -> Result<f32> {
         let size = self.full.first().map_or(self.size, |p| p.width);
@@ -192,6 +210,7 @@ fn fit_preset(
     let loss = |s: &SpeciesConfig| style_loss(&targets.render(s), targets, comparer);
     let (species, _) = search(species, rounds, loss)?;
     let species = match_colour(species, targets);
+    let species = match_knot_colour(species, targets);
     let style = targets.full_size_style(&species, comparer)?;
     Ok(Candidate {
         preset: name.to_string(),
@@ -210,6 +229,42 @@ fn match_colour(mut species: SpeciesConfig, targets: &Targets) -> SpeciesConfig 
         species = species.recoloured(factor);
     }
     species
+}
+
+/// The config with its knot colours scaled until the knots' mean colour on the faces is the
+/// photos' there (the stem's match leaves a preset's knot palette: on H11 an orange disc where
+/// the photo's knot is dark brown). Knot pixels: the model's knot membership above 0.5; with
+/// fewer than `MIN_KNOT_PIXELS` of them on the faces the config is returned unchanged.
+fn match_knot_colour(mut species: SpeciesConfig, targets: &Targets) -> SpeciesConfig {
+    let masks = targets.knot_masks(&species);
+    if masks.iter().flatten().filter(|&&m| m).count() < MIN_KNOT_PIXELS {
+        return species;
+    }
+    let refs: Vec<&Image2> = targets.photos.iter().map(|(_, p)| p).collect();
+    let want = masked_mean(&refs, &masks);
+    for _ in 0..COLOUR_ROUNDS {
+        let faces = targets.render(&species);
+        let have = masked_mean(&faces.iter().collect::<Vec<_>>(), &masks);
+        let factor: [f32; 3] = std::array::from_fn(|c| want[c] / have[c].max(1e-3));
+        species = species.recoloured_knots(factor);
+    }
+    species
+}
+
+/// Mean RGB of the pixels where `masks` (one per image, row-major) is set.
+fn masked_mean(images: &[&Image2], masks: &[Vec<bool>]) -> [f32; 3] {
+    let mut sum = [0.0f64; 3];
+    let mut count = 0.0f64;
+    for (img, mask) in images.iter().zip(masks) {
+        let rgb = img.with_channels(3);
+        for (px, _) in rgb.data.chunks_exact(3).zip(mask).filter(|(_, m)| **m) {
+            for c in 0..3 {
+                sum[c] += px[c] as f64;
+            }
+            count += 1.0;
+        }
+    }
+    sum.map(|s| (s / count.max(1.0)) as f32)
 }
 
 /// Mean style loss of rendered faces against the photos.

@@ -19,7 +19,7 @@ fn scale_map(map: &mut ColourMapConfig, factor: [f32; 3]) {
 
 impl SpeciesConfig {
     /// Every colour of the config (display sRGB) times `factor` per channel, clamped to
-    /// [0, 1]: ring colour maps, pores, rays, knot map and outline, burl buds.
+    /// [0, 1]: ring colour maps, pores, rays, burl buds, knot map and outline.
     pub fn recoloured(&self, factor: [f32; 3]) -> SpeciesConfig {
         let mut cfg = self.clone();
         scale_map(&mut cfg.rings.earlywood, factor);
@@ -30,11 +30,17 @@ impl SpeciesConfig {
         for r in &mut cfg.rays {
             r.colour = scale(r.colour, factor);
         }
-        scale_map(&mut cfg.knot_colour.map, factor);
-        cfg.knot_colour.outline_colour = scale(cfg.knot_colour.outline_colour, factor);
         if let Some(b) = &mut cfg.burl {
             b.bud_colour = scale(b.bud_colour, factor);
         }
+        cfg.recoloured_knots(factor)
+    }
+
+    /// The knots' colours alone (map and dead-knot outline) times `factor` per channel.
+    pub fn recoloured_knots(&self, factor: [f32; 3]) -> SpeciesConfig {
+        let mut cfg = self.clone();
+        scale_map(&mut cfg.knot_colour.map, factor);
+        cfg.knot_colour.outline_colour = scale(cfg.knot_colour.outline_colour, factor);
         cfg
     }
 }
