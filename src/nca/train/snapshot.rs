@@ -187,11 +187,10 @@ fn check_optimiser_record(bytes: &[u8], model: &Nca, path: &Path) -> Result<()> 
             .and_then(|id| id.parse::<u64>().ok())
             .and_then(shape_of);
         let expected = param_id.and_then(shape_of);
-        let shape = Some(shape.as_slice());
-        if expected.map(Vec::as_slice) != shape || by_name.map(Vec::as_slice) != shape {
+        let shape = shape.as_slice();
+        if expected.map(Vec::as_slice) != Some(shape) || by_name.map(Vec::as_slice) != Some(shape) {
             return Err(bad(format!(
-                "tensor {name:?} of shape {:?} belongs to no parameter of that shape",
-                shape.unwrap_or_default()
+                "tensor {name:?} of shape {shape:?} belongs to no parameter of that shape"
             )));
         }
     }
