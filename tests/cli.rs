@@ -483,3 +483,70 @@ fn export_infers_the_format_and_guards_colour() {
     assert!(err.contains("wood.raw") && err.contains(".vdb"), "{err}");
     std::fs::remove_dir_all(&out).unwrap();
 }
+
+/// Issue 14: `xylem slice --grain-shading FIT` sees a volume with the fit's grain shading (end
+/// grain darker by the fitted factor), and without the flag the same slice is plain.
+#[test]
+fn slice_sees_a_volume_with_a_fits_grain_shading() {
+    use xylem::field::{BaseColour, GrainShading, WhiteBalance};
+    let dir = scratch("slice-grain-shading");
+    std::fs::create_dir_all(dir.path()).unwrap();
+    let volume = dir.path().join("v.npy");
+    let grey = xylem::Volume::from_data([4, 4, 4], 3, vec![0.5; 4 * 4 * 4 * 3]).unwrap();
+    xylem::io::npy::write_volume(&volume, &grey).unwrap();
+    let mut field = xylem::presets::load_field_preset("straight").unwrap();
+    field.base_colour = Some(BaseColour {
+        g_range: [0.0, 20.0],
+        bar: vec![[0.5; 3], [0.5; 3]],
+        knot_bar: vec![],
+        knot_blend: 1.0,
+        face_offsets: [[0.0; 3]; 6],
+        white_balance: WhiteBalance {
+            face_means: [[0.6; 3]; 6],
+            mean: [0.6; 3],
+            grain: Some(GrainShading {
+                fibre: [0.0, 1.0, 0.0],
+                side: [0.66; 3],
+                end: [0.42; 3],
+                t_statistic: -3.0,
+            }),
+        },
+    });
+    let fit = dir.path().join("fit.toml");
+    xylem::config::write_config_copy(&fit, &field, "test").unwrap();
+    let slice_mean = |plane: &str, shaded: bool| -> f32 {
+        let out = dir.path().join(format!("{plane}-{shaded}.png"));
+        let mut cmd = xylem();
+        cmd.args(["slice", "--size", "8", "--plane", plane, "--volume"])
+            .arg(&volume)
+            .arg("--out")
+            .arg(&out);
+        if shaded {
+            cmd.arg("--grain-shading").arg(&fit);
+        }
+        run_ok(&mut cmd);
+        let img = image::open(&out).unwrap().to_rgb8();
+        img.pixels().map(|p| p[0] as f32).sum::<f32>() / (64.0 * 255.0)
+    };
+    // Face B (normal +y) is end grain: 0.5 x 0.42 / 0.6; face A side grain: 0.5 x 0.66 / 0.6.
+    assert!((slice_mean("B", true) - 0.35).abs() < 0.01);
+    assert!((slice_mean("A", true) - 0.55).abs() < 0.01);
+    assert!((slice_mean("B", false) - 0.5).abs() < 0.01);
+    // A fit without a base colour is a clear error naming the file.
+    let bare = dir.path().join("bare.toml");
+    field.base_colour = None;
+    xylem::config::write_config_copy(&bare, &field, "test").unwrap();
+    let err = run_err(
+        xylem()
+            .args(["slice", "--plane", "A", "--volume"])
+            .arg(&volume)
+            .arg("--grain-shading")
+            .arg(&bare)
+            .arg("--out")
+            .arg(dir.path().join("x.png")),
+    );
+    assert!(
+        err.contains("bare.toml") && err.contains("[base_colour]"),
+        "{err}"
+    );
+}

@@ -8,7 +8,7 @@ use xylem::io::{check_new_file, save_png};
 use xylem::render::{RenderConfig, Shape, TriMesh, render, turntable};
 
 use super::output_args::parse_size;
-use super::texture_source::TextureSource;
+use super::texture_source::{ShadingSource, TextureSource};
 use xylem::config::ConfigFile;
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -31,6 +31,8 @@ The mesh is fitted into the cube and rotated inside the wood by [carve] in the r
 pub struct RenderArgs {
     #[command(flatten)]
     pub source: TextureSource,
+    #[command(flatten)]
+    pub shading: ShadingSource,
     /// Carve this OBJ mesh from the wood instead of showing the cube.
     #[arg(long, value_name = "M.obj")]
     pub mesh: Option<PathBuf>,
@@ -59,6 +61,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
         None => RenderConfig::default_config(),
     };
     let (texture, what) = args.source.load()?;
+    let texture = args.shading.apply(texture)?;
     let shape = match &args.mesh {
         Some(path) => Shape::carved(&TriMesh::load_obj(path)?, &cfg.carve),
         None => Shape::Cube,

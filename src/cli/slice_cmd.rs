@@ -8,7 +8,7 @@ use xylem::frame::PlaneSpec;
 use xylem::io::{check_new_file, save_png};
 use xylem::slice::slice_plane;
 
-use super::texture_source::TextureSource;
+use super::texture_source::{ShadingSource, TextureSource};
 
 /// Slice a solid texture with a plane and write one PNG.
 #[derive(Args, Debug)]
@@ -27,11 +27,14 @@ Examples:
   xylem slice --field configs/fields/knot_alive.toml --plane cut1 --size 256 --out cut1.png
   xylem slice --field configs/fields/far.toml --plane \"-0.5,0,0.5;1,0,0;0,0,-1\" --out mid.png
   xylem slice --procedural configs/species/oak.toml --plane cut2 --size 512 --out oak.png
-  xylem slice --volume out/synth/volume.npy --plane cut1 --out cut1.png"
+  xylem slice --volume out/synth/volume.npy --plane cut1 --out cut1.png
+  xylem slice --volume out/run/synth/volume.npy --grain-shading out/run/fit --plane B --out B.png"
 )]
 pub struct SliceArgs {
     #[command(flatten)]
     pub source: TextureSource,
+    #[command(flatten)]
+    pub shading: ShadingSource,
     /// The plane: cut1, cut2, A..F, or "ox,oy,oz;ux,uy,uz;vx,vy,vz".
     #[arg(long, allow_hyphen_values = true, value_parser = super::output_args::flagged::<PlaneSpec>)]
     pub plane: PlaneSpec,
@@ -49,6 +52,7 @@ pub struct SliceArgs {
 pub fn run(args: SliceArgs) -> Result<()> {
     check_new_file(&args.out, args.force)?;
     let (texture, _) = args.source.load_colour()?;
+    let texture = args.shading.apply(texture)?;
     let n = args.size as usize;
     let image = slice_plane(texture.as_ref(), &args.plane.plane(), n, n);
     save_png(&image, &args.out)?;
