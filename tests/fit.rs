@@ -472,6 +472,22 @@ fn cli_fit_writes_every_listed_file_and_a_loadable_field() {
     // The fitted procedural model is a species config `xylem procedural --config` loads.
     let species = SpeciesConfig::load(&out.join("procedural.toml")).unwrap();
     assert!(["chestnut", "maple"].contains(&species.name.as_str()));
+    let rendered = out.join("procedural-render");
+    let status = Command::new(env!("CARGO_BIN_EXE_xylem"))
+        .args(["procedural", "--size", "32", "--config"])
+        .arg(out.join("procedural.toml"))
+        .arg("--out")
+        .arg(&rendered)
+        .output()
+        .unwrap();
+    assert!(
+        status.status.success(),
+        "{}",
+        String::from_utf8_lossy(&status.stderr)
+    );
+    // Round trip: the config `xylem procedural` used and copied is the fitted one.
+    let copied = SpeciesConfig::load(&rendered.join("config.toml")).unwrap();
+    assert_eq!(copied, species);
     let fitted = FieldConfig::load(&out.join("fit.toml")).unwrap();
     assert!(fitted.base_colour.is_some() && fitted.growth.rates.is_some());
     assert_eq!(fitted.knots.len(), 1);
