@@ -488,6 +488,26 @@ fn cli_fit_writes_every_listed_file_and_a_loadable_field() {
     // Round trip: the config `xylem procedural` used and copied is the fitted one.
     let copied = SpeciesConfig::load(&rendered.join("config.toml")).unwrap();
     assert_eq!(copied, species);
+    // Fitting again into the folder without a procedural model removes the earlier one, so
+    // that `xylem run` cannot show it beside the new field.
+    let mut no_procedural = quick_config();
+    no_procedural.procedural.presets.clear();
+    xylem::config::write_config_copy(&config, &no_procedural, "test").unwrap();
+    let again = Command::new(env!("CARGO_BIN_EXE_xylem"))
+        .args(["fit", "--faces", "A,B,C,D,E", "--sample"])
+        .arg(&sample)
+        .arg("--out")
+        .arg(&out)
+        .arg("--config")
+        .arg(&config)
+        .output()
+        .unwrap();
+    let said = String::from_utf8_lossy(&again.stdout).to_string()
+        + &String::from_utf8_lossy(&again.stderr);
+    assert!(again.status.success(), "{said}");
+    assert!(said.contains("removed the earlier"), "{said}");
+    assert!(!out.join("procedural.toml").exists());
+    assert!(!out.join("faces/A_procedural.png").exists());
     let fitted = FieldConfig::load(&out.join("fit.toml")).unwrap();
     assert!(fitted.base_colour.is_some() && fitted.growth.rates.is_some());
     assert_eq!(fitted.knots.len(), 1);

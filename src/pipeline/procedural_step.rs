@@ -39,6 +39,10 @@ pub fn fit_and_write_procedural(
         .iter()
         .filter_map(|&f| sample.photo(f).map(|p| (f, p)))
         .collect();
+    if cfg.presets.is_empty() {
+        remove_stale(dir, reporter)?;
+        return Ok(None);
+    }
     let comparer = Comparer::new(&LossConfig::default_config(), &DeviceKind::Flex.device());
     let presets = cfg.presets.len() as u64;
     let bar = reporter.counter("procedural fit", presets);
@@ -84,4 +88,25 @@ pub fn fit_and_write_procedural(
         describe(species)
     ));
     Ok(Some(fitted))
+}
+
+/// A fit without a procedural model, written over an earlier fit that had one: its
+/// `procedural.toml` would otherwise be shown by `xylem run` beside the new field.
+fn remove_stale(dir: &OutputDir, reporter: &dyn Reporter) -> Result<()> {
+    let path = dir.path(PROCEDURAL_FILE);
+    if !path.is_file() {
+        reporter.say("no procedural model fitted ([procedural] presets is empty)");
+        return Ok(());
+    }
+    let mut stale = vec![path];
+    stale.extend(Face::ALL.map(|f| dir.path(format!("faces/{f}_procedural.png"))));
+    stale.extend(["cut1", "cut2"].map(|c| dir.path(format!("cuts/{c}_procedural.png"))));
+    for file in stale.iter().filter(|p| p.is_file()) {
+        std::fs::remove_file(file).map_err(|e| crate::XylemError::io(file, e))?;
+    }
+    reporter.say(
+        "no procedural model fitted ([procedural] presets is empty): removed the earlier \
+         fit's procedural.toml and its images from this folder",
+    );
+    Ok(())
 }
