@@ -1,7 +1,7 @@
 //! NCA training end to end on a tiny synthetic sample: the loss goes down, a killed run
 //! resumed from its checkpoint continues exactly, and the CLI works on flex and ndarray.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 mod common;
 use common::{repo, run_ok, scratch, xylem};
@@ -662,4 +662,51 @@ fn training_that_cannot_fit_in_memory_is_refused_with_an_estimate() {
         "{err}"
     );
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Two identical trainings (separate processes, as a user runs them) write byte-identical
+/// checkpoints: burn stores the optimiser's tensors in hash-map order, which the snapshot puts
+/// back in name order (before, optimiser.bpk differed from run to run, and the reliability
+/// fuzz, which mutates such a file, tested different cases on every CI run).
+#[test]
+fn identical_trainings_write_identical_checkpoints() {
+    let dir = scratch("cli-identical");
+    std::fs::create_dir_all(dir.join("sample")).unwrap();
+    write_sample(&dir.join("sample"));
+    let config = dir.join("tiny.toml");
+    std::fs::write(
+        &config,
+        "seed = 2\n[model]\nhidden = 8\n[volume]\nsize = 16\ncrop = 16\n[schedule]\n\
+         iterations = 2\nsteps = [2, 3]\n[pool]\nsize = 2\n",
+    )
+    .unwrap();
+    let fit = repo("configs/fields/distorted.toml");
+    let train = |out: &Path| {
+        let mut c = xylem();
+        c.args(["train", "--sample"])
+            .arg(dir.join("sample"))
+            .arg("--config")
+            .arg(&config)
+            .arg("--fit")
+            .arg(&fit)
+            .arg("--out")
+            .arg(out);
+        run_ok(&mut c);
+    };
+    // Three runs: the hash-map order is random, so two could agree by chance.
+    let runs: Vec<PathBuf> = ["a", "b", "c"].iter().map(|n| dir.join(n)).collect();
+    for run in &runs {
+        train(run);
+    }
+    for f in [
+        "checkpoint/optimiser.bpk",
+        "checkpoint/pool.npy",
+        "model.bpk",
+    ] {
+        let first = std::fs::read(runs[0].join(f)).unwrap();
+        for run in &runs[1..] {
+            let other = std::fs::read(run.join(f)).unwrap();
+            assert!(first == other, "{f} differs between identical trainings");
+        }
+    }
 }

@@ -54,6 +54,26 @@ fn io(path: &Path) -> impl FnOnce(std::io::Error) -> XylemError + '_ {
     move |e| XylemError::io(path, e)
 }
 
+/// The same burnpack with its tensors' data in name order. burn writes the optimiser's
+/// tensors in hash-map order, so two identical trainings wrote different bytes (same
+/// tensors, other offsets); in name order the checkpoint is the same file every time.
+fn canonical_burnpack(bytes: &[u8]) -> std::result::Result<Vec<u8>, burn::store::burn_pack::Error> {
+    use burn::store::burn_pack::{Reader, Writer};
+    let reader = Reader::from_bytes(Bytes::from_bytes_vec(bytes.to_vec()))?;
+    let metadata = reader.metadata().clone();
+    let scalars = reader.scalars().clone();
+    let mut tensors = reader.into_tensors()?;
+    tensors.sort_by(|a, b| a.name.cmp(&b.name));
+    let mut writer = Writer::new(tensors);
+    for (key, value) in &metadata {
+        writer = writer.with_metadata(key, value);
+    }
+    for (key, value) in scalars {
+        writer = writer.with_scalar(&key, value);
+    }
+    Ok(writer.into_bytes()?.to_vec())
+}
+
 /// Writes the trainer's state and the log into `root/checkpoint/`.
 pub fn save(root: &Path, trainer: &Trainer, rows: &[LossRow]) -> Result<()> {
     let (dir, tmp, old) = dirs(root);
@@ -62,10 +82,12 @@ pub fn save(root: &Path, trainer: &Trainer, rows: &[LossRow]) -> Result<()> {
     }
     fs::create_dir_all(&tmp).map_err(io(&tmp))?;
     save_weights(&trainer.plain_model(), &tmp.join("model.bpk"))?;
+    let state_error = |e: String| XylemError::numeric("optimiser state", e);
     let optimiser = trainer
         .optimiser
         .into_bytes()
-        .map_err(|e| XylemError::numeric("optimiser state", format!("{e:?}")))?;
+        .map_err(|e| state_error(format!("{e:?}")))?;
+    let optimiser = canonical_burnpack(&optimiser).map_err(|e| state_error(format!("{e:?}")))?;
     write_bytes_atomic(&tmp.join("optimiser.bpk"), &optimiser)?;
     let slots = trainer.pool.to_data()?;
     let state_dims = trainer.state_dims();
