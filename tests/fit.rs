@@ -473,17 +473,12 @@ fn cli_fit_writes_every_listed_file_and_a_loadable_field() {
     let species = SpeciesConfig::load(&out.join("procedural.toml")).unwrap();
     assert!(["chestnut", "maple"].contains(&species.name.as_str()));
     let rendered = out.join("procedural-render");
-    let status = Command::new(env!("CARGO_BIN_EXE_xylem"))
-        .args(["procedural", "--size", "32", "--config"])
-        .arg(out.join("procedural.toml"))
-        .arg("--out")
-        .arg(&rendered)
-        .output()
-        .unwrap();
-    assert!(
-        status.status.success(),
-        "{}",
-        String::from_utf8_lossy(&status.stderr)
+    common::run_ok(
+        common::xylem()
+            .args(["procedural", "--size", "32", "--config"])
+            .arg(out.join("procedural.toml"))
+            .arg("--out")
+            .arg(&rendered),
     );
     // Round trip: the config `xylem procedural` used and copied is the fitted one.
     let copied = SpeciesConfig::load(&rendered.join("config.toml")).unwrap();
@@ -493,18 +488,15 @@ fn cli_fit_writes_every_listed_file_and_a_loadable_field() {
     let mut no_procedural = quick_config();
     no_procedural.procedural.presets.clear();
     xylem::config::write_config_copy(&config, &no_procedural, "test").unwrap();
-    let again = Command::new(env!("CARGO_BIN_EXE_xylem"))
-        .args(["fit", "--faces", "A,B,C,D,E", "--sample"])
-        .arg(&sample)
-        .arg("--out")
-        .arg(&out)
-        .arg("--config")
-        .arg(&config)
-        .output()
-        .unwrap();
-    let said = String::from_utf8_lossy(&again.stdout).to_string()
-        + &String::from_utf8_lossy(&again.stderr);
-    assert!(again.status.success(), "{said}");
+    let said = common::run_ok_said(
+        common::xylem()
+            .args(["fit", "--faces", "A,B,C,D,E", "--sample"])
+            .arg(&sample)
+            .arg("--out")
+            .arg(&out)
+            .arg("--config")
+            .arg(&config),
+    );
     assert!(said.contains("removed the earlier"), "{said}");
     assert!(!out.join("procedural.toml").exists());
     assert!(!out.join("faces/A_procedural.png").exists());
@@ -786,13 +778,29 @@ fn fit_recovers_a_known_end_grain_factor() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The inverse procedural fit of every face of `sample` on `field` with `cfg`.
+fn fit_procedural_of(
+    sample: &Sample,
+    field: &FieldConfig,
+    cfg: &xylem::fit::ProceduralFitConfig,
+) -> xylem::fit::procedural_fit::ProceduralFit {
+    let photos: Vec<(Face, &Image2)> = Face::ALL
+        .iter()
+        .map(|&f| (f, sample.photo(f).unwrap()))
+        .collect();
+    let device = xylem::device::DeviceKind::Flex.device();
+    let comparer =
+        xylem::metrics::Comparer::new(&xylem::loss::LossConfig::default_config(), &device);
+    xylem::fit::procedural_fit::fit_procedural(&photos, field, cfg, &comparer, |_, _| {})
+        .unwrap()
+        .expect("photos and presets to fit")
+}
+
 /// Issue 14: the inverse procedural fit on a sample of a preset finds that preset and comes
 /// back near its parameters (the numbers are printed for BENCHMARKS.md).
 #[test]
 fn inverse_procedural_recovers_the_preset_of_its_own_sample() {
     use xylem::fit::ProceduralFitConfig;
-    use xylem::fit::procedural_fit::fit_procedural;
-    use xylem::metrics::Comparer;
     let dir = common::scratch("fit-inverse-procedural");
     let truth = xylem::presets::load_species_preset("chestnut").unwrap();
     let out = xylem::io::OutputDir::prepare(&dir).unwrap();
@@ -801,19 +809,11 @@ fn inverse_procedural_recovers_the_preset_of_its_own_sample() {
     let field = fit_sample(&sample, &quick_config(), &mut |_, _, _| {})
         .unwrap()
         .field;
-    let photos: Vec<(Face, &Image2)> = Face::ALL
-        .iter()
-        .map(|&f| (f, sample.photo(f).unwrap()))
-        .collect();
     let cfg = ProceduralFitConfig {
         rounds: 2,
         ..ProceduralFitConfig::default()
     };
-    let device = xylem::device::DeviceKind::Flex.device();
-    let comparer = Comparer::new(&xylem::loss::LossConfig::default_config(), &device);
-    let fitted = fit_procedural(&photos, &field, &cfg, &comparer, |_, _| {})
-        .unwrap()
-        .unwrap();
+    let fitted = fit_procedural_of(&sample, &field, &cfg);
     for c in &fitted.candidates {
         eprintln!(
             "{}: style {:.3}, phase offset {:+.2} (corr {:.2}), {}",
@@ -840,8 +840,6 @@ fn inverse_procedural_recovers_the_preset_of_its_own_sample() {
 #[test]
 fn inverse_procedural_matches_the_knot_colour() {
     use xylem::fit::ProceduralFitConfig;
-    use xylem::fit::procedural_fit::fit_procedural;
-    use xylem::metrics::Comparer;
     let dir = common::scratch("fit-knot-colour");
     let preset = xylem::presets::load_species_preset("softwood").unwrap();
     // The truth's knots are half as bright per channel as the preset's.
@@ -851,20 +849,12 @@ fn inverse_procedural_matches_the_knot_colour() {
     let sample = load_all(&dir);
     // The true field, so that the test measures the colour match, not the knot fit.
     let field = truth.field_config();
-    let photos: Vec<(Face, &Image2)> = Face::ALL
-        .iter()
-        .map(|&f| (f, sample.photo(f).unwrap()))
-        .collect();
     let cfg = ProceduralFitConfig {
         presets: vec!["softwood".into()],
         rounds: 0,
         ..ProceduralFitConfig::default()
     };
-    let device = xylem::device::DeviceKind::Flex.device();
-    let comparer = Comparer::new(&xylem::loss::LossConfig::default_config(), &device);
-    let fitted = fit_procedural(&photos, &field, &cfg, &comparer, |_, _| {})
-        .unwrap()
-        .unwrap();
+    let fitted = fit_procedural_of(&sample, &field, &cfg);
     let stop = |s: &xylem::procedural::SpeciesConfig| s.knot_colour.map.stops[1];
     let (got, was, want) = (stop(&fitted.best.species), stop(&preset), stop(&truth));
     eprintln!("knot map stop: fitted {got:?}, preset {was:?}, truth {want:?}");
