@@ -15,8 +15,7 @@ use std::path::PathBuf;
 use xylem::config::ConfigFile;
 use xylem::device::DeviceKind;
 use xylem::field::{FieldConfig, GrainShaded};
-use xylem::fit::grain_shading_fit::estimate_grain_shading;
-use xylem::fit::white_balance::white_balance;
+use xylem::fit::grain_shading_fit::shaded_white_balance;
 use xylem::frame::Face;
 use xylem::io::npy::read_volume;
 use xylem::pipeline::{RunLayout, metrics_table};
@@ -44,12 +43,7 @@ fn main() -> xylem::Result<()> {
         )?;
         let layout = RunLayout::new(run);
         let fit = FieldConfig::load(&layout.fit_file())?;
-        let mut wb = white_balance(&photos.photos, &faces);
-        let means: Vec<(Face, [f32; 3])> = faces
-            .iter()
-            .map(|&f| (f, wb.face_means[f.index()]))
-            .collect();
-        let estimate = estimate_grain_shading(&means, fit.pith.fibre_axis());
+        let (wb, estimate) = shaded_white_balance(&photos.photos, &faces, fit.pith.fibre_axis());
         if let Some(e) = &estimate {
             eprintln!(
                 "{run}: t {:.2} side {:?} end {:?} kept {}",
@@ -59,7 +53,6 @@ fn main() -> xylem::Result<()> {
                 e.is_shown()
             );
         }
-        wb.grain = estimate.as_ref().and_then(|e| e.kept());
         // The procedural rows are not printed; any species will do.
         let procedural = ProceduralWood::new(&xylem::presets::load_species_preset("chestnut")?);
         let volume = read_volume(&layout.volume())?;

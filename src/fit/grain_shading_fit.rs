@@ -12,8 +12,10 @@
 
 use glam::Vec3;
 
-use crate::field::GrainShading;
+use super::white_balance::white_balance;
+use crate::field::{GrainShading, WhiteBalance};
 use crate::frame::Face;
+use crate::image2::Image2;
 
 /// Smallest |t| of the lightness slope for the shading to be kept.
 pub const MIN_T: f32 = 2.0;
@@ -38,6 +40,23 @@ impl ShadingEstimate {
     pub fn kept(&self) -> Option<GrainShading> {
         self.is_shown().then(|| self.model.clone())
     }
+}
+
+/// The white balance of the photos of `faces` (indexed by `Face::index`) with the grain
+/// shading kept when the photos show it, and the estimate (`None`: undetermined).
+pub fn shaded_white_balance(
+    photos: &[Option<Image2>; 6],
+    faces: &[Face],
+    fibre: Vec3,
+) -> (WhiteBalance, Option<ShadingEstimate>) {
+    let mut wb = white_balance(photos, faces);
+    let means: Vec<(Face, [f32; 3])> = faces
+        .iter()
+        .map(|&f| (f, wb.face_means[f.index()]))
+        .collect();
+    let estimate = estimate_grain_shading(&means, fibre);
+    wb.grain = estimate.as_ref().and_then(ShadingEstimate::kept);
+    (wb, estimate)
 }
 
 /// The estimate from the mean real RGB of each fitted face and the fibre direction; `None`

@@ -3,7 +3,7 @@
 //!
 //! For every species preset of the config's `[procedural] presets` (by default all but `burl`,
 //! a figure rather than a species and 30x slower), on the fitted faces at `search_size`
-//! pixels (128 keeps a whole fit of five presets near 40 s on 2 cores):
+//! pixels (128 keeps a whole fit of five presets near 27 s on 2 cores):
 //! 1. the preset on the fitted field: its pith, rate grid, rings and knots replace the
 //!    preset's, so its rings lie where the photos' do;
 //! 2. the ring phase offset (`rings.phase_offset`) that best aligns the preset's pore density
@@ -38,6 +38,7 @@ use crate::frame::Face;
 use crate::image2::Image2;
 use crate::metrics::Comparer;
 use crate::metrics::phase_density::{PhaseDensity, curve_correlation};
+use crate::metrics::report::StyleReference;
 use crate::presets::load_species_preset;
 use crate::procedural::{ProceduralWood, SpeciesConfig};
 use crate::slice::slice_face;
@@ -77,8 +78,12 @@ pub struct ProceduralFit {
 struct Targets {
     /// The photos at the search size.
     photos: Vec<(Face, Image2)>,
-    /// The photos as given, for the final score.
-    full: Vec<Image2>,
+    /// The style statistics of the photos at the search size and as given (the final
+    /// score), computed once for the whole search.
+    style: Vec<StyleReference>,
+    full_style: Vec<StyleReference>,
+    /// The photos' own side.
+    full_size: usize,
     /// The fit's white balance: renders are seen with its grain shading, as the sheets show
     /// the procedural model.
     white_balance: Option<WhiteBalance>,
@@ -101,7 +106,7 @@ pub fn fit_procedural(
     if cfg.presets.is_empty() {
         return Ok(None);
     }
-    let Some(targets) = Targets::new(photos, fit, cfg.search_size)? else {
+    let Some(targets) = Targets::new(photos, fit, cfg.search_size, comparer)? else {
         return Ok(None);
     };
     let mut candidates = Vec::new();
@@ -122,12 +127,16 @@ impl Targets {
         photos: &[(Face, &Image2)],
         fit: &FieldConfig,
         search_size: usize,
+        comparer: &Comparer,
     ) -> Result<Option<Self>> {
         let Some(&(_, first)) = photos.first() else {
             return Ok(None);
         };
         let size = first.width.min(search_size);
-        let full: Vec<Image2> = photos.iter().map(|(_, p)| p.with_channels(3)).collect();
+        let full_style = photos
+            .iter()
+            .map(|(_, p)| comparer.style_reference(p))
+            .collect::<Result<Vec<_>>>()?;
         let white_balance = fit.base_colour.as_ref().map(|c| c.white_balance.clone());
         let photos: Vec<(Face, Image2)> = photos
             .iter()
@@ -138,12 +147,18 @@ impl Targets {
             .iter()
             .map(|(f, _)| slice_face(&field, *f, size))
             .collect();
+        let style = photos
+            .iter()
+            .map(|(_, p)| comparer.style_reference(p))
+            .collect::<Result<Vec<_>>>()?;
         let refs: Vec<&Image2> = photos.iter().map(|(_, p)| p).collect();
         let curve = pore_curve(&refs, &growth)?;
         let mean = mean_colour(&refs);
         Ok(Some(Self {
             photos,
-            full,
+            style,
+            full_style,
+            full_size: first.width,
             white_balance,
             growth,
             curve,
@@ -159,8 +174,7 @@ impl Targets {
 
     fn render_at(&self, species: &SpeciesConfig, size: usize) -> Vec<Image2> {
         let wood = ProceduralWood::new(species);
-        let rgb = FirstChannels { inner: &wood, n: 3 };
-        let seen = GrainShaded::new(rgb, self.white_balance.as_ref());
+        let seen = seen_procedural(&wood, self.white_balance.as_ref());
         self.photos
             .iter()
             .map(|(f, _)| slice_face(&seen, *f, size))
@@ -181,16 +195,34 @@ impl Targets {
             .collect()
     }
 
+    /// Mean style loss of faces rendered at the search size.
+    fn search_style(&self, faces: &[Image2], comparer: &Comparer) -> Result<f32> {
+        mean_style(&self.style, faces, comparer)
+    }
+
     /// Mean style loss over the faces at the photos' own size (the candidates' score).
     fn full_size_style(&self, species: &SpeciesConfig, comparer: &Comparer) -> Result<f32> {
-        let size = self.full.first().map_or(self.size, |p| p.width);
-        let faces = self.render_at(species, size);
-        let mut sum = 0.0;
-        for (photo, face) in self.full.iter().zip(&faces) {
-            sum += comparer.style(photo, face)?;
-        }
-        Ok(sum / faces.len().max(1) as f32)
+        let faces = self.render_at(species, self.full_size);
+        mean_style(&self.full_style, &faces, comparer)
     }
+}
+
+/// A procedural model's colour as the sheets show it: RGB, seen with the fit's grain shading
+/// (`None`: plain).
+pub fn seen_procedural<'a>(
+    wood: &'a ProceduralWood,
+    white_balance: Option<&WhiteBalance>,
+) -> GrainShaded<FirstChannels<&'a ProceduralWood>> {
+    GrainShaded::new(FirstChannels { inner: wood, n: 3 }, white_balance)
+}
+
+/// Mean style loss of `faces` against the prepared photos, face by face.
+fn mean_style(references: &[StyleReference], faces: &[Image2], comparer: &Comparer) -> Result<f32> {
+    let mut sum = 0.0;
+    for (reference, face) in references.iter().zip(faces) {
+        sum += comparer.style(reference, face)?;
+    }
+    Ok(sum / faces.len().max(1) as f32)
 }
 
 fn fit_preset(
@@ -207,7 +239,7 @@ fn fit_preset(
     let (offset, phase_correlation) = phase_offset(&targets.render(&species), targets)?;
     species.rings.phase_offset = offset;
     let species = match_colour(species, targets);
-    let loss = |s: &SpeciesConfig| style_loss(&targets.render(s), targets, comparer);
+    let loss = |s: &SpeciesConfig| targets.search_style(&targets.render(s), comparer);
     let (species, _) = search(species, rounds, loss)?;
     let species = match_colour(species, targets);
     let species = match_knot_colour(species, targets);
@@ -253,27 +285,7 @@ fn match_knot_colour(mut species: SpeciesConfig, targets: &Targets) -> SpeciesCo
 
 /// Mean RGB of the pixels where `masks` (one per image, row-major) is set.
 fn masked_mean(images: &[&Image2], masks: &[Vec<bool>]) -> [f32; 3] {
-    let mut sum = [0.0f64; 3];
-    let mut count = 0.0f64;
-    for (img, mask) in images.iter().zip(masks) {
-        let rgb = img.with_channels(3);
-        for (px, _) in rgb.data.chunks_exact(3).zip(mask).filter(|(_, m)| **m) {
-            for c in 0..3 {
-                sum[c] += px[c] as f64;
-            }
-            count += 1.0;
-        }
-    }
-    sum.map(|s| (s / count.max(1.0)) as f32)
-}
-
-/// Mean style loss of rendered faces against the photos.
-fn style_loss(faces: &[Image2], targets: &Targets, comparer: &Comparer) -> Result<f32> {
-    let mut sum = 0.0;
-    for ((_, photo), face) in targets.photos.iter().zip(faces) {
-        sum += comparer.style(photo, face)?;
-    }
-    Ok(sum / faces.len().max(1) as f32)
+    mean_where(images, |image, pixel| masks[image][pixel])
 }
 
 /// The phase offset (years, in (-0.5, 0.5]) whose shifted pore curve of `faces` best matches
@@ -313,16 +325,26 @@ fn pore_curve(images: &[&Image2], growth: &[Image2]) -> Result<Vec<f32>> {
 
 /// Mean RGB over all pixels of the images (each image weighted by its pixel count).
 fn mean_colour(images: &[&Image2]) -> [f32; 3] {
+    mean_where(images, |_, _| true)
+}
+
+/// Mean RGB of the pixels `keep(image index, pixel index)` selects, summed in f64.
+fn mean_where(images: &[&Image2], keep: impl Fn(usize, usize) -> bool) -> [f32; 3] {
     let mut sum = [0.0f64; 3];
     let mut count = 0.0f64;
-    for img in images {
+    for (i, img) in images.iter().enumerate() {
         let rgb = img.with_channels(3);
-        for px in rgb.data.chunks_exact(3) {
+        for (_, px) in rgb
+            .data
+            .chunks_exact(3)
+            .enumerate()
+            .filter(|(k, _)| keep(i, *k))
+        {
             for c in 0..3 {
                 sum[c] += px[c] as f64;
             }
+            count += 1.0;
         }
-        count += (rgb.width * rgb.height) as f64;
     }
     sum.map(|s| (s / count.max(1.0)) as f32)
 }

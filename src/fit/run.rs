@@ -16,7 +16,7 @@ use super::config::{FitConfig, RingPeakConfig};
 use super::contours::{Contour, ContourSet, face_contours};
 use super::distortion::{LossParts, Step2, Step2Data, Step2Params};
 use super::fibre_direction::{FibreChoice, FibreMeasure, measure_fibre_direction};
-use super::grain_shading_fit::{ShadingEstimate, estimate_grain_shading};
+use super::grain_shading_fit::{ShadingEstimate, shaded_white_balance};
 use super::grey_map::{self, GRange};
 use super::grid_layout::fitted_grid;
 use super::iso_loss::iso_loss;
@@ -25,7 +25,6 @@ use super::metrics::iso_error_mm;
 use super::pith_descent::descend;
 use super::pith_search::{axes_differ, axis_loss, search};
 use super::ring_peaks::{median_spacing, profile_peaks};
-use super::white_balance::white_balance;
 use crate::config::Checker;
 use crate::config::ConfigFile;
 use crate::error::{Result, XylemError};
@@ -191,14 +190,7 @@ fn fit_colour(
     log: &mut Vec<LossRow>,
     progress: Progress,
 ) -> (BaseColour, Option<ShadingEstimate>) {
-    let mut wb = white_balance(&sample.photos, &sample.faces);
-    let fitted_means: Vec<(Face, [f32; 3])> = sample
-        .faces
-        .iter()
-        .map(|&f| (f, wb.face_means[f.index()]))
-        .collect();
-    let grain = estimate_grain_shading(&fitted_means, fibre_axis);
-    wb.grain = grain.as_ref().and_then(ShadingEstimate::kept);
+    let (wb, grain) = shaded_white_balance(&sample.photos, &sample.faces, fibre_axis);
     let balanced: [Option<Image2>; 6] = std::array::from_fn(|f| {
         sample.photos[f]
             .as_ref()

@@ -14,7 +14,7 @@ use super::patch_swd::{PatchChannels, PatchSwdSettings, patch_swd};
 use super::ring::{RingSettings, ring_ncc};
 use crate::error::{Result, XylemError};
 use crate::image2::Image2;
-use crate::loss::{LossConfig, StyleLoss, image_to_tensor};
+use crate::loss::{LossConfig, StyleLoss, StyleTargets, image_to_tensor};
 
 /// Metric names in output order (JSON keys, CSV columns).
 pub const METRIC_NAMES: [&str; 10] = [
@@ -134,27 +134,40 @@ impl Comparer {
             swd_chroma: swd(PatchChannels::Chroma),
             de_mean,
             de_std,
-            style: self.style_loss(&reference, &candidate)?,
+            style: self.style(&self.style_reference(&reference)?, &candidate)?,
             aniso: pore_anisotropy(&candidate),
             aniso_ref: pore_anisotropy(&reference),
         })
     }
 
-    /// The style loss of `candidate` against `reference` alone (the `style` of
-    /// [`Self::compare`]), for searches that score many candidates.
-    pub fn style(&self, reference: &Image2, candidate: &Image2) -> Result<f32> {
-        let candidate = match_size(reference, candidate)?;
-        self.style_loss(&reference.with_channels(3), &candidate)
+    /// The style statistics of `reference`, computed once for many [`Self::style`] calls
+    /// (a search scoring many candidates against the same photo).
+    pub fn style_reference(&self, reference: &Image2) -> Result<StyleReference> {
+        let image = reference.with_channels(3);
+        let targets = self.style.targets(std::slice::from_ref(&image))?;
+        Ok(StyleReference { image, targets })
     }
 
-    fn style_loss(&self, reference: &Image2, candidate: &Image2) -> Result<f32> {
-        let targets = self.style.targets(std::slice::from_ref(reference))?;
+    /// The style loss of `candidate` against a prepared reference alone (the `style` of
+    /// [`Self::compare`]).
+    pub fn style(&self, reference: &StyleReference, candidate: &Image2) -> Result<f32> {
+        let candidate = match_size(&reference.image, candidate)?;
+        self.style_loss(&reference.targets, &candidate)
+    }
+
+    fn style_loss(&self, targets: &StyleTargets, candidate: &Image2) -> Result<f32> {
         let generated = image_to_tensor(candidate, &self.device);
         Ok(self
             .style
-            .loss(&[generated], &targets, &[0])?
+            .loss(&[generated], targets, &[0])?
             .into_scalar::<f32>())
     }
+}
+
+/// A reference image with its style statistics ([`Comparer::style_reference`]).
+pub struct StyleReference {
+    image: Image2,
+    targets: StyleTargets,
 }
 
 /// All metrics with the default settings and loss on the flex device.

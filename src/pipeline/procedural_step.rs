@@ -7,9 +7,9 @@ use super::reporter::Reporter;
 use crate::Result;
 use crate::config::write_config_copy;
 use crate::device::DeviceKind;
-use crate::field::{FieldConfig, GrainShaded};
+use crate::field::FieldConfig;
 use crate::fit::ProceduralFitConfig;
-use crate::fit::procedural_fit::{ProceduralFit, fit_procedural};
+use crate::fit::procedural_fit::{ProceduralFit, fit_procedural, seen_procedural};
 use crate::fit::procedural_search::describe;
 use crate::frame::{Face, Plane};
 use crate::io::{OutputDir, save_png};
@@ -18,7 +18,6 @@ use crate::metrics::Comparer;
 use crate::procedural::ProceduralWood;
 use crate::sample::Sample;
 use crate::slice::{slice_face, slice_plane};
-use crate::texture::FirstChannels;
 
 /// File name of the fitted procedural config inside a fit folder.
 pub const PROCEDURAL_FILE: &str = "procedural.toml";
@@ -56,10 +55,9 @@ pub fn fit_and_write_procedural(
     let species = &fitted.best.species;
     write_config_copy(&dir.path(PROCEDURAL_FILE), species, source)?;
     let wood = ProceduralWood::new(species);
-    let rgb = FirstChannels { inner: &wood, n: 3 };
     // Seen with the grain shading, as the run's sheet shows it.
     let white_balance = field.base_colour.as_ref().map(|c| &c.white_balance);
-    let rgb = GrainShaded::new(rgb, white_balance);
+    let rgb = seen_procedural(&wood, white_balance);
     let size = sample.size;
     for face in Face::ALL {
         let path = dir.path(format!("faces/{face}_procedural.png"));
