@@ -125,6 +125,7 @@ pub mod rng;
 pub mod run_folder;
 pub mod sample;
 pub mod slice;
+pub mod symmetric_eigen;
 pub mod texture;
 pub mod volume;
 

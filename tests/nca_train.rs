@@ -534,6 +534,58 @@ fn bounded_readout_run(readout: &str) {
     assert!(worst < 1e-4, "fused and burn readouts differ by {worst}");
 }
 
+/// `model.colour_axes = 1`: the model stores a rank-1 projection of the photos' fine-texture
+/// colour, and every voxel's departure from B lies on that one axis, with both engines.
+#[test]
+fn one_colour_axis_keeps_the_residual_on_it() {
+    use xylem::nca::model_dir::TrainedModel;
+    use xylem::nca::synth::{SynthOptions, synthesise};
+    use xylem::volume::Volume;
+    let dir = scratch("colour-axes");
+    std::fs::create_dir_all(dir.join("sample")).unwrap();
+    write_sample(&dir.join("sample"));
+    let text = "seed = 4\n[model]\nhidden = 16\ncolour_axes = 1\n[volume]\nsize = 16\ncrop = 8\n\
+                [schedule]\niterations = 8\nsteps = [3, 5]\nlearning_rate = 3e-2\n\
+                [pool]\nsize = 0\n[loss]\nface = \"moments\"\n";
+    let cfg = TrainConfig::parse(text, Path::new("<test>")).unwrap();
+    let data = data(&dir.join("sample"), &cfg);
+    train(&dir.join("model"), &cfg, &data, &TrainOptions::default());
+    let device = DeviceKind::Flex.device();
+    let trained = TrainedModel::load(&dir.join("model"), &device).unwrap();
+    let norm = &trained.meta.normalisation;
+    let p = norm
+        .colour_projection
+        .expect("a projection stored with the model");
+    let trace = p[0][0] + p[1][1] + p[2][2];
+    assert!(
+        (trace - 1.0).abs() < 1e-5,
+        "rank-1 projection has trace 1: {p:?}"
+    );
+    let base = Volume::from_texture(trained.fit.conditioning().colour.as_ref(), 16);
+    for engine in [Engine::Fused, Engine::Burn] {
+        let options = SynthOptions {
+            size: 16,
+            steps: 6,
+            seed: 9,
+            slab_voxels: 1 << 18,
+            engine,
+        };
+        let volume = synthesise(&trained, &options, &device, |_| {}).unwrap();
+        let (mut off_axis, mut size) = (0.0f32, 0.0f32);
+        for (v, b) in volume.data.chunks_exact(3).zip(base.data.chunks_exact(3)) {
+            let r: [f32; 3] = std::array::from_fn(|c| (v[c] - b[c]) * norm.white_balance[c]);
+            let on_axis = p.map(|row| row[0] * r[0] + row[1] * r[1] + row[2] * r[2]);
+            off_axis = (0..3).fold(off_axis, |m, c| m.max((r[c] - on_axis[c]).abs()));
+            size = (0..3).fold(size, |m, c| m.max(r[c].abs()));
+        }
+        assert!(size > 1e-3, "{engine:?}: the state paints nothing ({size})");
+        assert!(
+            off_axis < 1e-4 * size.max(1.0),
+            "{engine:?}: {off_axis} off the axis"
+        );
+    }
+}
+
 /// Determinism: the same config and seed write the same model file, byte for byte (burn's
 /// random parameter ids used to make model.bpk and its hash differ between identical runs).
 #[test]

@@ -577,6 +577,17 @@ fn damaged_models_and_checkpoints_give_clear_errors() {
             error(&["normalisation.white_balance[0]", "inf"]),
         ),
         (
+            "model.toml: NaN colour_projection",
+            Box::new(|t| {
+                set(
+                    t,
+                    "normalisation.colour_projection",
+                    Some("[[nan, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]"),
+                )
+            }),
+            error(&["normalisation.colour_projection", "finite in [-1, 1]"]),
+        ),
+        (
             "model.toml: NaN g_range",
             Box::new(|t| set(t, "normalisation.g_range", Some("[nan, 300.0]"))),
             error(&["normalisation.g_range", "low < high"]),

@@ -30,6 +30,8 @@
 
 use glam::{DMat3, DVec3, Vec3};
 
+use crate::symmetric_eigen::symmetric_eigen;
+
 use crate::frame::Face;
 use crate::image_filter::{gaussian_gradient, high_pass};
 use crate::image2::Image2;
@@ -212,50 +214,6 @@ fn smallest_direction(m: &DMat3) -> (DVec3, [f64; 2]) {
     order.sort_by(|&a, &b| values[a].total_cmp(&values[b]));
     let (low, mid) = (values[order[0]].max(0.0), values[order[1]].max(0.0));
     (vectors.col(order[0]).normalize(), [low, mid])
-}
-
-/// Eigenvalues and eigenvectors (columns) of a symmetric 3x3 matrix by cyclic Jacobi
-/// rotations.
-fn symmetric_eigen(m: &DMat3) -> ([f64; 3], DMat3) {
-    let mut a = m.to_cols_array_2d(); // a[col][row], symmetric so the same as [row][col]
-    let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
-    for _ in 0..50 {
-        let off = a[0][1].powi(2) + a[0][2].powi(2) + a[1][2].powi(2);
-        if off < 1e-30 {
-            break;
-        }
-        for (p, q) in [(0, 1), (0, 2), (1, 2)] {
-            if a[p][q].abs() < 1e-300 {
-                continue;
-            }
-            let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
-            let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
-            let c = 1.0 / (t * t + 1.0).sqrt();
-            rotate(&mut a, &mut v, p, q, c, t * c);
-        }
-    }
-    let column = |j: usize| DVec3::new(v[0][j], v[1][j], v[2][j]);
-    (
-        [a[0][0], a[1][1], a[2][2]],
-        DMat3::from_cols(column(0), column(1), column(2)),
-    )
-}
-
-/// Applies the Jacobi rotation J (p, q, c, s): a <- J^T a J, v <- v J (`v[row][col]`, the
-/// eigenvectors in its columns).
-fn rotate(a: &mut [[f64; 3]; 3], v: &mut [[f64; 3]; 3], p: usize, q: usize, c: f64, s: f64) {
-    let columns = |m: &mut [[f64; 3]; 3]| {
-        for row in m.iter_mut() {
-            let (mp, mq) = (row[p], row[q]);
-            row[p] = c * mp - s * mq;
-            row[q] = s * mp + c * mq;
-        }
-    };
-    columns(a);
-    columns(v);
-    let (rp, rq) = (a[p], a[q]);
-    a[p] = std::array::from_fn(|k| c * rp[k] - s * rq[k]);
-    a[q] = std::array::from_fn(|k| s * rp[k] + c * rq[k]);
 }
 
 #[cfg(test)]

@@ -27,6 +27,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use super::colour_axes::{project, project_tensor};
 use super::cond_channel::CondChannel;
 use super::config::ModelSpec;
 use super::grain_noise::GrainNoise;
@@ -58,6 +59,10 @@ pub struct Normalisation {
     pub g_range: [f32; 2],
     /// Per-channel factor from photo colours to white-balanced colours.
     pub white_balance: [f32; 3],
+    /// The projection (row-major) of the state's RGB residual onto the photos' main
+    /// fine-texture colour axes (`model.colour_axes`; `colour_axes.rs`); `None`: none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub colour_projection: Option<[[f32; 3]; 3]>,
 }
 
 /// G (1 channel) and B (3 channels) at the voxel centres of a region, `[X, Y, Z, C]`.
@@ -103,6 +108,7 @@ impl Conditioning {
         Normalisation {
             g_range: [lo, hi.max(lo + 1e-6)],
             white_balance: photo_mean.map(|m| 0.5 / m.max(1e-4)),
+            colour_projection: None,
         }
     }
 }
@@ -130,6 +136,23 @@ fn sample_region(texture: &dyn SolidTexture, region: &Region) -> Volume {
 }
 
 impl Normalisation {
+    /// The state's RGB `[3, X, Y, Z]` as the residual added to B: projected onto the colour
+    /// axes where the model has them.
+    pub fn residual_tensor(&self, state_rgb: Tensor<4>, device: &Device) -> Tensor<4> {
+        match &self.colour_projection {
+            Some(p) => project_tensor(state_rgb, p, device),
+            None => state_rgb,
+        }
+    }
+
+    /// [`Self::residual_tensor`] of one voxel.
+    pub fn residual(&self, state_rgb: [f32; 3]) -> [f32; 3] {
+        match &self.colour_projection {
+            Some(p) => project(p, state_rgb),
+            None => state_rgb,
+        }
+    }
+
     /// White-balanced B, `[3, X, Y, Z]`: what the state's RGB residual is added to.
     pub fn colour_tensor(&self, vols: &CondVolumes, device: &Device) -> Tensor<4> {
         let [x, y, z] = vols.b.dims;

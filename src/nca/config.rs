@@ -55,6 +55,17 @@ pub struct ModelSpec {
     /// How the colour is read from the state: `residual` (B + state RGB), or `bounded` /
     /// `saturating` (the same, softly bounded to [0, 1] in photo colour; `readout.rs`).
     pub readout: Readout,
+    /// How many principal axes of the photos' fine-texture colour the state's RGB residual
+    /// may move along (`colour_axes.rs`): 3 = any colour (the authors'), 2 = not the
+    /// magenta-green axis the photos' texture barely has, 1 = light-dark wood colour only.
+    #[serde(skip_serializing_if = "is_every_colour")]
+    pub colour_axes: usize,
+}
+
+/// Every colour axis (the default): left out of the model's stored spec so models trained
+/// before the option existed and without it are written alike.
+fn is_every_colour(axes: &usize) -> bool {
+    *axes == 3
 }
 
 /// The training grid and the part of it each iteration unrolls.
@@ -258,6 +269,7 @@ impl Default for ModelSpec {
             seed_amplitude: 0.05,
             grain_noise: GrainNoiseSpec::default(),
             readout: Readout::default(),
+            colour_axes: 3,
         }
     }
 }
@@ -287,6 +299,13 @@ impl ModelSpec {
             "state channels (the first 3 are RGB)",
         )?;
         check.count("hidden", self.hidden, 1, 1024, "hidden width")?;
+        check.count(
+            "colour_axes",
+            self.colour_axes,
+            1,
+            3,
+            "principal colour axes the state may paint along",
+        )?;
         for (i, c) in self.conditioning.iter().enumerate() {
             if self.conditioning[..i].contains(c) {
                 return Err(check.error(

@@ -37,6 +37,7 @@
 //!   checkpoints on disk and a whole training session.
 
 pub mod checkpoint;
+pub mod colour_axes;
 pub mod cond_channel;
 pub mod conditioning;
 pub mod config;

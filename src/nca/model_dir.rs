@@ -148,6 +148,16 @@ impl ModelMeta {
                 "factor from photo to white-balanced colour",
             )?;
         }
+        if let Some(p) = &self.normalisation.colour_projection
+            && p.iter()
+                .flatten()
+                .any(|v| !(v.is_finite() && v.abs() <= 1.0))
+        {
+            return Err(n.error(
+                "colour_projection",
+                format!("= {p:?}: expected a 3x3 projection, every entry finite in [-1, 1]"),
+            ));
+        }
         Ok(())
     }
 }

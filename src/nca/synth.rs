@@ -99,7 +99,8 @@ pub fn synthesise(
         options.slab_voxels,
         progress,
     );
-    let sum = state.narrow(0, 0, 3) + norm.colour_tensor(&vols, device);
+    let sum =
+        norm.residual_tensor(state.narrow(0, 0, 3), device) + norm.colour_tensor(&vols, device);
     let rgb = spec.readout.white_balanced(sum, norm.white_balance, device);
     let mut volume = tensor_to_volume(rgb)?;
     for px in volume.data.chunks_exact_mut(3) {
@@ -181,8 +182,9 @@ fn colour_volume(
     let n = dims.iter().product::<usize>();
     let mut data = vec![0.0f32; 3 * n];
     for (v, px) in data.chunks_exact_mut(3).enumerate() {
+        let residual = norm.residual([0, 1, 2].map(|c| state[c * n + v]));
         for (c, value) in px.iter_mut().enumerate() {
-            *value = state[c * n + v] + colour[c * n + v];
+            *value = residual[c] + colour[c * n + v];
         }
         to_photo_colour(norm, px);
         for value in px.iter_mut() {

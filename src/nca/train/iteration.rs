@@ -28,6 +28,7 @@ use crate::error::Result;
 use crate::frame::Face;
 use crate::image2::Image2;
 use crate::nca::checkpoint::{Objective, UnrollGradients, unroll_gradients};
+use crate::nca::colour_axes::{colour_projection, project_tensor};
 use crate::nca::conditioning::{Conditioning, Normalisation};
 use crate::nca::config::{Engine, TargetColour, TrainConfig};
 use crate::nca::faces::{FacePatch, face_patches, inner_patches, layout};
@@ -68,7 +69,7 @@ impl TrainData {
         let conditioning = fit
             .conditioning()
             .for_model(&config.model, config.seed, 1.0);
-        let normalisation = conditioning.normalisation(photo_mean);
+        let mut normalisation = conditioning.normalisation(photo_mean);
         if config.loss.target_colour == TargetColour::Base {
             match_base_means(
                 &mut targets,
@@ -77,6 +78,7 @@ impl TrainData {
                 grid,
             );
         }
+        normalisation.colour_projection = colour_projection(&targets, config.model.colour_axes);
         let guides = phase_guides(conditioning.growth.as_ref(), &sample.faces, grid);
         Self {
             faces: sample.faces.clone(),
@@ -107,6 +109,8 @@ struct RegionInputs {
     guide: Tensor<4>,
     /// The colour readout and the photo -> white-balanced factor it needs.
     readout: (Readout, [f32; 3]),
+    /// The projection of the state's RGB onto the colour axes (`Normalisation`).
+    colour_projection: Option<[[f32; 3]; 3]>,
 }
 
 /// What an iteration starts from.
@@ -352,6 +356,7 @@ fn region_inputs(
         faces,
         colour,
         readout: (cfg.model.readout, data.normalisation.white_balance),
+        colour_projection: data.normalisation.colour_projection,
         guide,
     })
 }
@@ -405,7 +410,11 @@ fn objective(
     overflow_weight: f32,
 ) -> Objective {
     let (readout, white_balance) = inputs.readout;
-    let sum = state.clone().narrow(0, 0, 3) + inputs.colour.clone(); // [3, X, Y, Z]
+    let mut residual = state.clone().narrow(0, 0, 3); // [3, X, Y, Z]
+    if let Some(p) = &inputs.colour_projection {
+        residual = project_tensor(residual, p, &state.device());
+    }
+    let sum = residual + inputs.colour.clone(); // [3, X, Y, Z]
     let rgb = readout.white_balanced(sum, white_balance, &state.device());
     let mut faces: Vec<FacePatch> = face_patches(&rgb, &inputs.region, &inputs.faces);
     for &depth in depths {
