@@ -87,6 +87,11 @@ impl Image2 {
             .step_by(self.channels)
             .copied()
             .collect();
+        self.grey_of_same_size(data)
+    }
+
+    /// A one-channel image of this one's size holding `data` (`height * width` values).
+    fn grey_of_same_size(&self, data: Vec<f32>) -> Image2 {
         Image2 {
             width: self.width,
             height: self.height,
@@ -105,12 +110,7 @@ impl Image2 {
             .chunks_exact(self.channels)
             .map(|p| 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2])
             .collect();
-        Image2 {
-            width: self.width,
-            height: self.height,
-            channels: 1,
-            data,
-        }
+        self.grey_of_same_size(data)
     }
 
     /// The image with `channels` channels: grey is repeated, extra channels are dropped.
@@ -173,30 +173,34 @@ impl Image2 {
 
     /// Images placed side by side (left to right) with `gap` pixels of `background` between.
     pub fn hstack(images: &[&Image2], gap: usize, background: f32) -> Image2 {
-        let channels = images.iter().map(|i| i.channels).max().unwrap_or(1);
-        let height = images.iter().map(|i| i.height).max().unwrap_or(0);
-        let width =
-            images.iter().map(|i| i.width).sum::<usize>() + gap * images.len().saturating_sub(1);
-        let mut out = Image2::filled(width, height, channels, background);
-        let mut col = 0;
-        for img in images {
-            out.blit(&img.with_channels(channels), 0, col);
-            col += img.width + gap;
-        }
-        out
+        Self::stack(images, gap, background, true)
     }
 
     /// Images placed one below the other with `gap` pixels of `background` between.
     pub fn vstack(images: &[&Image2], gap: usize, background: f32) -> Image2 {
+        Self::stack(images, gap, background, false)
+    }
+
+    /// [`Self::hstack`] (`across`) or [`Self::vstack`]: the images follow each other along
+    /// one axis and the output is as thick as the thickest across the other.
+    fn stack(images: &[&Image2], gap: usize, background: f32, across: bool) -> Image2 {
         let channels = images.iter().map(|i| i.channels).max().unwrap_or(1);
-        let width = images.iter().map(|i| i.width).max().unwrap_or(0);
-        let height =
-            images.iter().map(|i| i.height).sum::<usize>() + gap * images.len().saturating_sub(1);
+        let along = |i: &Image2| if across { i.width } else { i.height };
+        let beside = |i: &Image2| if across { i.height } else { i.width };
+        let length =
+            images.iter().map(|i| along(i)).sum::<usize>() + gap * images.len().saturating_sub(1);
+        let thickness = images.iter().map(|i| beside(i)).max().unwrap_or(0);
+        let (width, height) = if across {
+            (length, thickness)
+        } else {
+            (thickness, length)
+        };
         let mut out = Image2::filled(width, height, channels, background);
-        let mut row = 0;
+        let mut at = 0;
         for img in images {
-            out.blit(&img.with_channels(channels), row, 0);
-            row += img.height + gap;
+            let (row, col) = if across { (0, at) } else { (at, 0) };
+            out.blit(&img.with_channels(channels), row, col);
+            at += along(img) + gap;
         }
         out
     }

@@ -35,41 +35,25 @@ pub trait SolidTexture: Send + Sync {
     }
 }
 
-impl<T: SolidTexture + ?Sized> SolidTexture for &T {
-    fn channels(&self) -> usize {
-        (**self).channels()
-    }
-    fn eval(&self, p: Vec3, out: &mut [f32]) {
-        (**self).eval(p, out)
-    }
-    fn eval_on_surface(&self, p: Vec3, normal: Vec3, out: &mut [f32]) {
-        (**self).eval_on_surface(p, normal, out)
-    }
+/// A reference or a smart pointer to a texture is that texture: every method is forwarded,
+/// so an overridden `eval_on_surface` is kept.
+macro_rules! forward_solid_texture {
+    ($($pointer:ty),*) => {$(
+        impl<T: SolidTexture + ?Sized> SolidTexture for $pointer {
+            fn channels(&self) -> usize {
+                (**self).channels()
+            }
+            fn eval(&self, p: Vec3, out: &mut [f32]) {
+                (**self).eval(p, out)
+            }
+            fn eval_on_surface(&self, p: Vec3, normal: Vec3, out: &mut [f32]) {
+                (**self).eval_on_surface(p, normal, out)
+            }
+        }
+    )*};
 }
 
-impl<T: SolidTexture + ?Sized> SolidTexture for Box<T> {
-    fn channels(&self) -> usize {
-        (**self).channels()
-    }
-    fn eval(&self, p: Vec3, out: &mut [f32]) {
-        (**self).eval(p, out)
-    }
-    fn eval_on_surface(&self, p: Vec3, normal: Vec3, out: &mut [f32]) {
-        (**self).eval_on_surface(p, normal, out)
-    }
-}
-
-impl<T: SolidTexture + ?Sized> SolidTexture for std::sync::Arc<T> {
-    fn channels(&self) -> usize {
-        (**self).channels()
-    }
-    fn eval(&self, p: Vec3, out: &mut [f32]) {
-        (**self).eval(p, out)
-    }
-    fn eval_on_surface(&self, p: Vec3, normal: Vec3, out: &mut [f32]) {
-        (**self).eval_on_surface(p, normal, out)
-    }
-}
+forward_solid_texture!(&T, Box<T>, std::sync::Arc<T>);
 
 /// A texture restricted to its first `n` channels (e.g. the RGB of a texture that also
 /// carries a fibre direction).
