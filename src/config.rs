@@ -231,6 +231,16 @@ impl Checker {
         }
     }
 
+    /// A list of `n` entries, `lo` to `hi`; its error reads "has {n} {what}", so `what` names the
+    /// entries and the limits (e.g. "values; expected 1 to 64 distances").
+    pub fn list_length(&self, key: &str, n: usize, lo: usize, hi: usize, what: &str) -> Result<()> {
+        if (lo..=hi).contains(&n) {
+            Ok(())
+        } else {
+            Err(self.error(key, format!("has {n} {what}")))
+        }
+    }
+
     /// An integer count within [lo, hi].
     pub fn count(
         &self,

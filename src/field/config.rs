@@ -255,6 +255,17 @@ impl GrowthConfig {
         self.grid.iter().product()
     }
 
+    /// The range of `min_rate`, here and in the fit that writes it (`fit::config`).
+    pub fn check_min_rate(check: &Checker, min_rate: f32) -> Result<()> {
+        check.range(
+            "min_rate",
+            min_rate,
+            1e-4,
+            1.0,
+            "the smallest relative growth rate",
+        )
+    }
+
     pub fn validate(&self, check: &Checker) -> Result<()> {
         check.positive(
             "years_per_unit",
@@ -266,13 +277,7 @@ impl GrowthConfig {
         check.count("grid[0]", nh, 1, 64, "the number of heights n_h")?;
         check.count("grid[1]", na, 4, 128, "the number of azimuths n_a")?;
         check.count("grid[2]", nr, 2, 128, "the number of radii n_r")?;
-        check.range(
-            "min_rate",
-            self.min_rate,
-            1e-4,
-            1.0,
-            "the smallest relative growth rate",
-        )?;
+        Self::check_min_rate(check, self.min_rate)?;
         if self.rates.is_some() && self.distortion.is_some() {
             return Err(check.error(
                 "rates",
@@ -339,15 +344,13 @@ impl GrowthConfig {
 
 impl RingsConfig {
     pub fn validate(&self, check: &Checker) -> Result<()> {
-        if self.at.is_empty() || self.at.len() > 100_000 {
-            return Err(check.error(
-                "at",
-                format!(
-                    "has {} values; expected 1 to 100000 ring positions",
-                    self.at.len()
-                ),
-            ));
-        }
+        check.list_length(
+            "at",
+            self.at.len(),
+            1,
+            100_000,
+            "values; expected 1 to 100000 ring positions",
+        )?;
         if let Some(i) = self.at.iter().position(|a| !(a.is_finite() && *a > 0.0)) {
             return Err(check.error(
                 "at",

@@ -9,6 +9,7 @@ use serde::{Deserialize, Serialize};
 use super::localiser_config::LocaliserConfig;
 use crate::config::{Checker, ConfigFile};
 use crate::error::Result;
+use crate::field::GrowthConfig;
 
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -362,15 +363,13 @@ impl PithFitConfig {
             45.0,
             "degrees",
         )?;
-        if self.distances.is_empty() || self.distances.len() > 64 {
-            return Err(check.error(
-                "distances",
-                format!(
-                    "has {} values; expected 1 to 64 distances",
-                    self.distances.len()
-                ),
-            ));
-        }
+        check.list_length(
+            "distances",
+            self.distances.len(),
+            1,
+            64,
+            "values; expected 1 to 64 distances",
+        )?;
         for (i, d) in self.distances.iter().enumerate() {
             check.range(
                 &format!("distances[{i}]"),
@@ -435,13 +434,7 @@ impl DistortionFitConfig {
             "grey-map nodes per year",
         )?;
         check.count("image_stride", self.image_stride, 1, 64, "a pixel stride")?;
-        check.range(
-            "min_rate",
-            self.min_rate,
-            1e-4,
-            1.0,
-            "the smallest relative growth rate",
-        )?;
+        GrowthConfig::check_min_rate(check, self.min_rate)?;
         check.count(
             "knot_gradient_stride",
             self.knot_gradient_stride,

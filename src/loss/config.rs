@@ -139,15 +139,13 @@ impl ConfigFile for LossConfig {
 
 impl FilterConfig {
     fn validate(&self, check: &Checker) -> Result<()> {
-        if self.kernel_sizes.is_empty() || self.kernel_sizes.len() > 4 {
-            return Err(check.error(
-                "kernel_sizes",
-                format!(
-                    "has {} entries: expected 1 to 4 odd kernel sides, e.g. [5]",
-                    self.kernel_sizes.len()
-                ),
-            ));
-        }
+        check.list_length(
+            "kernel_sizes",
+            self.kernel_sizes.len(),
+            1,
+            4,
+            "entries: expected 1 to 4 odd kernel sides, e.g. [5]",
+        )?;
         for &k in &self.kernel_sizes {
             if k % 2 == 0 || !(1..=15).contains(&k) {
                 return Err(check.error(

@@ -24,6 +24,12 @@ pub(crate) fn check_interval(
     }
 }
 
+/// The `years` key of a part laid out over growth years: an interval within 0..=10 000
+/// (`meaning` says what the years are the times of, e.g. "ring times in years").
+pub(crate) fn check_years(check: &Checker, years: [f32; 2], meaning: &str) -> Result<()> {
+    check_interval(check, "years", years, 0.0, 10_000.0, meaning)
+}
+
 /// A display-referred colour: three values in [0, 1].
 pub(crate) fn check_colour(check: &Checker, key: &str, c: [f32; 3]) -> Result<()> {
     if c.iter().all(|v| v.is_finite() && (0.0..=1.0).contains(v)) {

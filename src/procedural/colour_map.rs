@@ -32,15 +32,13 @@ impl ColourMapConfig {
     }
 
     pub fn validate(&self, check: &Checker) -> Result<()> {
-        if self.stops.is_empty() || self.stops.len() > 256 {
-            return Err(check.error(
-                "stops",
-                format!(
-                    "has {} control points; expected 1 to 256 points [t, r, g, b]",
-                    self.stops.len()
-                ),
-            ));
-        }
+        check.list_length(
+            "stops",
+            self.stops.len(),
+            1,
+            256,
+            "control points; expected 1 to 256 points [t, r, g, b]",
+        )?;
         let mut previous = f32::NEG_INFINITY;
         for (i, stop) in self.stops.iter().enumerate() {
             let [t, r, g, b] = *stop;

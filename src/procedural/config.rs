@@ -85,15 +85,13 @@ impl ConfigFile for SpeciesConfig {
         if let Some(p) = &self.pores {
             p.validate(&check.nested("pores"))?;
         }
-        if self.rays.len() > MAX_RAY_LAYERS {
-            return Err(check.error(
-                "rays",
-                format!(
-                    "has {} layers; at most {MAX_RAY_LAYERS} are supported",
-                    self.rays.len()
-                ),
-            ));
-        }
+        check.list_length(
+            "rays",
+            self.rays.len(),
+            0,
+            MAX_RAY_LAYERS,
+            &format!("layers; at most {MAX_RAY_LAYERS} are supported"),
+        )?;
         for (i, r) in self.rays.iter().enumerate() {
             r.validate(&check.nested(&format!("rays[{i}]")))?;
         }

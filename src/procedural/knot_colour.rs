@@ -9,7 +9,7 @@
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
-use super::checks::{check_colour, check_interval};
+use super::checks::{check_colour, check_years};
 use super::colour_map::{ColourMap, ColourMapConfig};
 use crate::config::Checker;
 use crate::error::Result;
@@ -54,14 +54,7 @@ impl Default for KnotColourConfig {
 impl KnotColourConfig {
     pub fn validate(&self, check: &Checker) -> Result<()> {
         self.map.validate(&check.nested("map"))?;
-        check_interval(
-            check,
-            "years",
-            self.years,
-            0.0,
-            10_000.0,
-            "knot times in years",
-        )?;
+        check_years(check, self.years, "knot times in years")?;
         check.range("opacity", self.opacity, 0.0, 1.0, "an opacity")?;
         check.range("darken", self.darken, -2.0, 3.0, "a log pigment exponent")?;
         check.range("edge_years", self.edge_years, 0.01, 100.0, "years")?;

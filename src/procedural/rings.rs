@@ -12,7 +12,7 @@
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
-use super::checks::check_interval;
+use super::checks::{check_interval, check_years};
 use super::colour_map::{ColourMap, ColourMapConfig};
 use crate::config::Checker;
 use crate::error::Result;
@@ -73,14 +73,7 @@ impl RingConfig {
     pub fn validate(&self, check: &Checker) -> Result<()> {
         self.earlywood.validate(&check.nested("earlywood"))?;
         self.latewood.validate(&check.nested("latewood"))?;
-        check_interval(
-            check,
-            "years",
-            self.years,
-            0.0,
-            10_000.0,
-            "ring times in years",
-        )?;
+        check_years(check, self.years, "ring times in years")?;
         check_interval(
             check,
             "transition",
