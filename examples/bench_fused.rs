@@ -19,7 +19,7 @@
 #[path = "common/nca_bench.rs"]
 mod nca_bench;
 
-use nca_bench::{time_iterations, timed, train_config, train_data};
+use nca_bench::{arg, mode_size_steps, time_iterations, timed, train_config, train_data};
 use xylem::device::DeviceKind;
 use xylem::nca::MomentLoss;
 use xylem::nca::fused::{FixedInputs, Isa, MlpWeights, Stepper};
@@ -27,16 +27,10 @@ use xylem::nca::region::Region;
 use xylem::nca::train::Trainer;
 use xylem::rng::Rng;
 
-fn arg<T: std::str::FromStr>(args: &[String], i: usize, default: T) -> T {
-    args.get(i).and_then(|s| s.parse().ok()).unwrap_or(default)
-}
-
 fn main() {
     xylem::nca::denormals::flush_denormals_to_zero();
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let mode = args.first().map(String::as_str).unwrap_or("unroll");
-    let size: usize = arg(&args, 1, 64);
-    let steps: usize = arg(&args, 2, 8);
+    let (mode, size, steps) = mode_size_steps(&args);
     match mode {
         "unroll" => {
             let isa: Isa = args

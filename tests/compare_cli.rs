@@ -40,28 +40,22 @@ fn compare_prints_one_json_object_and_writes_the_sheet() {
     write_wood(&a, 64, 0.0);
     write_wood(&b, 32, 1.0);
     let sheet = dir.join("sheet.png");
-    let (ok, stdout, stderr) = run(xylem()
-        .arg("compare")
-        .arg(&a)
-        .arg(&b)
-        .arg("--sheet")
-        .arg(&sheet));
+    let compare_with_sheet = || {
+        run(xylem()
+            .arg("compare")
+            .arg(&a)
+            .arg(&b)
+            .arg("--sheet")
+            .arg(&sheet))
+    };
+    let (ok, stdout, stderr) = compare_with_sheet();
     assert!(ok, "{stderr}");
     let line = stdout.trim();
     assert!(
         line.starts_with('{') && line.ends_with('}') && !line.contains('\n'),
         "{stdout}"
     );
-    for key in [
-        "ring_ncc",
-        "orient",
-        "swd",
-        "swd_L",
-        "swd_chroma",
-        "dE_mean",
-        "dE_std",
-        "style",
-    ] {
+    for key in xylem::metrics::METRIC_NAMES {
         assert!(
             line.contains(&format!("\"{key}\": ")),
             "{key} missing: {line}"
@@ -70,12 +64,7 @@ fn compare_prints_one_json_object_and_writes_the_sheet() {
     let picture = load_rgb(&sheet).unwrap();
     assert!(picture.width > 3 * 64 && picture.height > 64);
     // the sheet is not replaced without --force
-    let (ok, _, stderr) = run(xylem()
-        .arg("compare")
-        .arg(&a)
-        .arg(&b)
-        .arg("--sheet")
-        .arg(&sheet));
+    let (ok, _, stderr) = compare_with_sheet();
     assert!(!ok && stderr.contains("--force"), "{stderr}");
     // a missing file names itself
     let (ok, _, stderr) = run(xylem().arg("compare").arg(&a).arg(dir.join("nope.png")));

@@ -45,6 +45,17 @@ fn write_nrrd(name: &str) -> (common::Scratch, std::path::PathBuf) {
     (dir, path)
 }
 
+/// What a reader's `script` prints for the volume at `path`, given the probe voxel's indices
+/// as its arguments 2 to 4.
+fn read_at_probe(python: &std::path::Path, script: &str, path: &std::path::Path) -> String {
+    let p = PROBE.map(|v| v.to_string());
+    common::run_python(
+        python,
+        script,
+        &[path.to_str().unwrap(), &p[0], &p[1], &p[2]],
+    )
+}
+
 fn floats(line: &str) -> Vec<f32> {
     line.split_whitespace()
         .map(|s| s.parse().unwrap_or_else(|_| panic!("not a number: {s}")))
@@ -81,12 +92,7 @@ print(a.GetNumberOfComponents(), a.GetNumberOfTuples())
 print(*a.GetTuple(i + d[0] * (j + d[1] * k)))
 print(*img.GetSpacing())
 "#;
-    let p = PROBE.map(|v| v.to_string());
-    let out = common::run_python(
-        &python,
-        script,
-        &[path.to_str().unwrap(), &p[0], &p[1], &p[2]],
-    );
+    let out = read_at_probe(&python, script, &path);
     let lines: Vec<&str> = out.lines().collect();
     assert_eq!(floats(lines[0]), vec![5.0, 7.0, 9.0], "VTK dimensions");
     assert_eq!(floats(lines[1]), vec![3.0, 315.0], "components, tuples");
@@ -116,12 +122,7 @@ print(*img.GetPixel(i, j, k))
 print(*img.GetSpacing())
 print(*img.TransformIndexToPhysicalPoint((i, j, k)))
 "#;
-    let p = PROBE.map(|v| v.to_string());
-    let out = common::run_python(
-        &python,
-        script,
-        &[path.to_str().unwrap(), &p[0], &p[1], &p[2]],
-    );
+    let out = read_at_probe(&python, script, &path);
     let lines: Vec<&str> = out.lines().collect();
     assert_eq!(floats(lines[0]), vec![5.0, 7.0, 9.0], "ITK size");
     assert_eq!(floats(lines[1]), vec![3.0], "ITK components");
@@ -146,7 +147,7 @@ print(*data[:, i, j, k])
 print(*h['space units'])
 print(h['kinds'][0])
 "#;
-        let out = common::run_python(&py, script, &[path.to_str().unwrap(), &p[0], &p[1], &p[2]]);
+        let out = read_at_probe(&py, script, &path);
         let lines: Vec<&str> = out.lines().collect();
         assert_eq!(floats(lines[0]), vec![3.0, 5.0, 7.0, 9.0], "pynrrd shape");
         assert_close(&floats(lines[1]), &probe_colour(), 1e-6, "pynrrd value");

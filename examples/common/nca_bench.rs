@@ -1,5 +1,6 @@
 //! Set-up shared by the NCA benchmarks (`bench_nca.rs`: burn, `bench_fused.rs`: fused):
-//! the training config, synthetic training data and the timing of training iterations.
+//! their command line, the training config, synthetic training data and the timing of
+//! training iterations.
 
 use std::time::Instant;
 
@@ -11,6 +12,17 @@ use xylem::nca::train::{TrainData, Trainer};
 use xylem::nca::{FaceLoss, TrainConfig};
 use xylem::presets::load_field_preset;
 use xylem::rng::Rng;
+
+/// The `i`-th command-line argument, or `default` where it is absent or does not parse.
+pub fn arg<T: std::str::FromStr>(args: &[String], i: usize, default: T) -> T {
+    args.get(i).and_then(|s| s.parse().ok()).unwrap_or(default)
+}
+
+/// The arguments both benchmarks start with: MODE (default unroll), SIZE (64), STEPS (8).
+pub fn mode_size_steps(args: &[String]) -> (&str, usize, usize) {
+    let mode = args.first().map(String::as_str).unwrap_or("unroll");
+    (mode, arg(args, 1, 64), arg(args, 2, 8))
+}
 
 /// A training config: SIZE^3 grid, CROP^3 corner crops (whole volume if CROP = SIZE),
 /// STEPS steps per iteration, no pool, checkpoint segments of SEGMENT steps.
