@@ -3,6 +3,8 @@
 //! Slices of solid textures, face photos and ring images all travel as `Image2`; conversion
 //! to 8-bit happens only when a PNG is written (`io::png`).
 
+use std::borrow::Borrow;
+
 use crate::error::{Result, XylemError};
 
 #[derive(Clone, Debug, PartialEq)]
@@ -172,18 +174,19 @@ impl Image2 {
     }
 
     /// Images placed side by side (left to right) with `gap` pixels of `background` between.
-    pub fn hstack(images: &[&Image2], gap: usize, background: f32) -> Image2 {
+    pub fn hstack<I: Borrow<Image2>>(images: &[I], gap: usize, background: f32) -> Image2 {
         Self::stack(images, gap, background, true)
     }
 
     /// Images placed one below the other with `gap` pixels of `background` between.
-    pub fn vstack(images: &[&Image2], gap: usize, background: f32) -> Image2 {
+    pub fn vstack<I: Borrow<Image2>>(images: &[I], gap: usize, background: f32) -> Image2 {
         Self::stack(images, gap, background, false)
     }
 
     /// [`Self::hstack`] (`across`) or [`Self::vstack`]: the images follow each other along
     /// one axis and the output is as thick as the thickest across the other.
-    fn stack(images: &[&Image2], gap: usize, background: f32, across: bool) -> Image2 {
+    fn stack<I: Borrow<Image2>>(images: &[I], gap: usize, background: f32, across: bool) -> Image2 {
+        let images: Vec<&Image2> = images.iter().map(Borrow::borrow).collect();
         let channels = images.iter().map(|i| i.channels).max().unwrap_or(1);
         let along = |i: &Image2| if across { i.width } else { i.height };
         let beside = |i: &Image2| if across { i.height } else { i.width };

@@ -7,7 +7,7 @@ use crate::image2::Image2;
 
 /// Gap between tiles and rows (pixels).
 const GAP: usize = 4;
-const BACKGROUND: f32 = 0.12;
+pub const BACKGROUND: f32 = 0.12;
 /// Width of the frame marking a held-out face.
 const FRAME: usize = 3;
 
@@ -35,12 +35,21 @@ pub fn overlay(target: &Image2, fitted: &Image2) -> Image2 {
 
 /// The sheet of up to six rows.
 pub fn fit_sheet(rows: &[SheetRow]) -> Image2 {
-    let lines: Vec<Image2> = rows.iter().map(row_image).collect();
-    let refs: Vec<&Image2> = lines.iter().collect();
-    Image2::vstack(&refs, GAP, BACKGROUND)
+    let rows: Vec<[Image2; 5]> = rows.iter().map(row_tiles).collect();
+    tile_rows(&rows)
 }
 
-fn row_image(row: &SheetRow) -> Image2 {
+/// Rows of tiles (left to right) stacked top to bottom, `GAP` pixels of `BACKGROUND` between
+/// tiles and rows: the layout of this sheet and the localiser's (`rings::sheet`).
+pub fn tile_rows<R: AsRef<[Image2]>>(rows: &[R]) -> Image2 {
+    let lines: Vec<Image2> = rows
+        .iter()
+        .map(|tiles| Image2::hstack(tiles.as_ref(), GAP, BACKGROUND))
+        .collect();
+    Image2::vstack(&lines, GAP, BACKGROUND)
+}
+
+fn row_tiles(row: &SheetRow) -> [Image2; 5] {
     let n = row.fitted.width;
     let blank = Image2::filled(n, n, 3, BACKGROUND);
     let photo = row.photo.clone().unwrap_or_else(|| blank.clone());
@@ -53,8 +62,7 @@ fn row_image(row: &SheetRow) -> Image2 {
     if row.held_out {
         tiles.iter_mut().for_each(frame_red);
     }
-    let refs: Vec<&Image2> = tiles.iter().collect();
-    Image2::hstack(&refs, GAP, BACKGROUND)
+    tiles
 }
 
 /// Paints a red frame into the tile's border (in place, as RGB).

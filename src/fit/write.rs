@@ -87,14 +87,14 @@ pub fn loss_csv(result: &FitResult) -> String {
         .iter()
         .map(|row| {
             let p = &row.parts;
-            vec![
-                row.stage.to_string(),
-                row.iteration.to_string(),
-                p.total.to_string(),
-                p.iso.to_string(),
-                p.image.to_string(),
-                p.smooth.to_string(),
-            ]
+            MetricsTable::row(&[
+                &row.stage,
+                &row.iteration,
+                &p.total,
+                &p.iso,
+                &p.image,
+                &p.smooth,
+            ])
         })
         .collect();
     MetricsTable::new(&header, rows).to_csv()

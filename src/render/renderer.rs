@@ -225,6 +225,5 @@ pub fn turntable(
             )
         })
         .collect();
-    let refs: Vec<&Image2> = views.iter().collect();
-    Image2::hstack(&refs, 0, 1.0)
+    Image2::hstack(&views, 0, 1.0)
 }

@@ -23,6 +23,11 @@ impl MetricsTable {
         }
     }
 
+    /// One row of fields as `Display` writes them (floats in their shortest round-trip form).
+    pub fn row(values: &[&dyn std::fmt::Display]) -> Vec<String> {
+        values.iter().map(|v| v.to_string()).collect()
+    }
+
     pub fn read(path: &Path) -> Result<Self> {
         let text = std::fs::read_to_string(path).map_err(|e| XylemError::io(path, e))?;
         Self::parse(&text).map_err(|message| XylemError::input(path.display().to_string(), message))

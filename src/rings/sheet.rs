@@ -2,11 +2,8 @@
 //! ring image, the given one (blank where the folder has none) and both overlaid (given
 //! green, predicted magenta, white where they agree).
 
-use crate::fit::sheet::overlay;
+use crate::fit::sheet::{BACKGROUND, overlay, tile_rows};
 use crate::image2::Image2;
-
-const GAP: usize = 4;
-const BACKGROUND: f32 = 0.12;
 
 /// The images of one face.
 pub struct RingsRow {
@@ -17,24 +14,21 @@ pub struct RingsRow {
 
 /// The sheet of the rows, top to bottom.
 pub fn rings_sheet(rows: &[RingsRow]) -> Image2 {
-    let lines: Vec<Image2> = rows.iter().map(row_image).collect();
-    let refs: Vec<&Image2> = lines.iter().collect();
-    Image2::vstack(&refs, GAP, BACKGROUND)
+    let rows: Vec<[Image2; 4]> = rows.iter().map(row_tiles).collect();
+    tile_rows(&rows)
 }
 
-fn row_image(row: &RingsRow) -> Image2 {
+fn row_tiles(row: &RingsRow) -> [Image2; 4] {
     let n = row.predicted.width;
     let blank = Image2::filled(n, n, 3, BACKGROUND);
     let (given, both) = match &row.given {
         Some(g) => (g.with_channels(3), overlay(g, &row.predicted)),
         None => (blank.clone(), blank),
     };
-    let tiles = [
+    [
         row.photo.with_channels(3),
         row.predicted.with_channels(3),
         given,
         both,
-    ];
-    let refs: Vec<&Image2> = tiles.iter().collect();
-    Image2::hstack(&refs, GAP, BACKGROUND)
+    ]
 }

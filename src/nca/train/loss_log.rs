@@ -28,14 +28,14 @@ pub fn to_csv(rows: &[LossRow]) -> String {
     let rows = rows
         .iter()
         .map(|r| {
-            vec![
-                r.iteration.to_string(),
-                r.steps.to_string(),
-                r.loss.to_string(),
-                r.style.to_string(),
-                r.overflow.to_string(),
-                r.learning_rate.to_string(),
-            ]
+            MetricsTable::row(&[
+                &r.iteration,
+                &r.steps,
+                &r.loss,
+                &r.style,
+                &r.overflow,
+                &r.learning_rate,
+            ])
         })
         .collect();
     let header: Vec<&str> = HEADER.split(',').collect();
