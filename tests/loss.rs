@@ -52,6 +52,29 @@ fn value(t: Tensor<1>) -> f32 {
     t.into_scalar::<f32>()
 }
 
+/// [`all_terms`] with every weight 0 but the sliced Wasserstein and colour terms'.
+fn swd_and_colour(swd: f32, colour: f32) -> LossConfig {
+    let mut cfg = all_terms();
+    cfg.weights = xylem::loss::config::LossWeights {
+        gram: 0.0,
+        mean: 0.0,
+        covariance: 0.0,
+        swd,
+        colour,
+    };
+    cfg
+}
+
+/// The loss under `cfg` of `img` against the single target `target`.
+fn loss_against(cfg: &LossConfig, target: &Image2, img: &Image2, device: &Device) -> f32 {
+    let loss = StyleLoss::new(cfg, device);
+    let targets = loss.targets(std::slice::from_ref(target)).unwrap();
+    value(
+        loss.loss(&[image_to_tensor(img, device)], &targets, &[0])
+            .unwrap(),
+    )
+}
+
 #[test]
 fn every_term_of_an_image_against_itself_is_zero() {
     let device = Device::flex();
@@ -383,22 +406,10 @@ fn chroma_filters_see_chroma_speckle() {
     };
     let pink_green = speckled([1.0, -1.0, 0.0]);
     let loss_at = |chroma: f32, img: &Image2| {
-        let mut cfg = all_terms();
-        cfg.weights = xylem::loss::config::LossWeights {
-            gram: 0.0,
-            mean: 0.0,
-            covariance: 0.0,
-            swd: 1.0,
-            colour: 0.0,
-        };
+        let mut cfg = swd_and_colour(1.0, 0.0);
         cfg.swd.projections = 32;
         cfg.filters.chroma = chroma;
-        let loss = StyleLoss::new(&cfg, &device);
-        let targets = loss.targets(std::slice::from_ref(&target)).unwrap();
-        value(
-            loss.loss(&[image_to_tensor(img, &device)], &targets, &[0])
-                .unwrap(),
-        )
+        loss_against(&cfg, &target, img, &device)
     };
     let without = loss_at(0.0, &pink_green);
     let with = loss_at(4.0, &pink_green);
@@ -428,21 +439,9 @@ fn joint_colour_axes_see_the_coupling_of_lightness_and_chroma() {
     };
     let (brown, blue) = (coupled(-1.0), coupled(1.0));
     let loss_at = |joint: bool, img: &Image2| {
-        let mut cfg = all_terms();
-        cfg.weights = xylem::loss::config::LossWeights {
-            gram: 0.0,
-            mean: 0.0,
-            covariance: 0.0,
-            swd: 0.0,
-            colour: 1.0,
-        };
+        let mut cfg = swd_and_colour(0.0, 1.0);
         cfg.joint_colour = joint;
-        let loss = StyleLoss::new(&cfg, &device);
-        let targets = loss.targets(std::slice::from_ref(&brown)).unwrap();
-        value(
-            loss.loss(&[image_to_tensor(img, &device)], &targets, &[0])
-                .unwrap(),
-        )
+        loss_against(&cfg, &brown, img, &device)
     };
     let (six, ten) = (loss_at(false, &blue), loss_at(true, &blue));
     // R, G and B already see part of it (their marginals change with the coupling); the

@@ -4,7 +4,7 @@
 //! number of threads.
 
 mod common;
-use common::random;
+use common::{max_abs, max_abs_diff, random};
 
 use burn::module::Param;
 use burn::tensor::{Device, Tensor};
@@ -96,13 +96,7 @@ impl Case {
 
 /// max |a - b| / max |b|, and max |b|.
 fn relative_error(a: &[f32], b: &[f32]) -> (f32, f32) {
-    assert_eq!(a.len(), b.len());
-    let scale = b.iter().map(|v| v.abs()).fold(0.0f32, f32::max);
-    let worst = a
-        .iter()
-        .zip(b)
-        .map(|(x, y)| (x - y).abs())
-        .fold(0.0f32, f32::max);
+    let (scale, worst) = (max_abs(b), max_abs_diff(a, b));
     (worst / scale.max(f32::MIN_POSITIVE), scale)
 }
 

@@ -4,6 +4,9 @@
 // as the formulas they check.
 #![allow(clippy::needless_range_loop)]
 
+mod common;
+use common::max_abs_diff;
+
 use burn::tensor::{Device, Tensor};
 use xylem::nca::perception::{PerceptionImpl, kernels};
 use xylem::nca::tensors::{tensor_from, to_vec};
@@ -132,11 +135,7 @@ fn both_implementations_match_plain_loops_with_replicate_padding() {
     let x: Tensor<4> = tensor_from(input, [c, dims[0], dims[1], dims[2]], &device());
     for imp in [PerceptionImpl::Shifted, PerceptionImpl::Conv] {
         let got = to_vec(imp.perceive(x.clone())).unwrap();
-        let worst = got
-            .iter()
-            .zip(&expected)
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0f32, f32::max);
+        let worst = max_abs_diff(&got, &expected);
         assert!(worst < 1e-4, "{imp:?}: max difference {worst}");
     }
 }

@@ -3,7 +3,7 @@
 //! backprop.
 
 mod common;
-use common::random;
+use common::{max_abs, max_abs_diff, random};
 
 use burn::module::Param;
 use burn::tensor::{Device, Tensor};
@@ -155,11 +155,7 @@ fn slab_steps_equal_whole_steps() {
     let whole = to_vec(m.step(s0.clone(), &inp)).unwrap();
     // Slabs of 2 x 6 x 6 voxels: three slabs with halos.
     let slabbed = to_vec(step_in_slabs(&m, s0, &inp, 2 * N * N)).unwrap();
-    let worst = whole
-        .iter()
-        .zip(&slabbed)
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0f32, f32::max);
+    let worst = max_abs_diff(&whole, &slabbed);
     assert!(worst < 1e-6, "max difference {worst}");
 }
 
@@ -176,11 +172,7 @@ fn conv_and_shifted_models_give_the_same_step() {
         let m = model(&spec, &w, &device);
         outs.push(to_vec(m.step(s0.clone(), &inputs(&spec, &region, &device))).unwrap());
     }
-    let worst = outs[0]
-        .iter()
-        .zip(&outs[1])
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0f32, f32::max);
+    let worst = max_abs_diff(&outs[0], &outs[1]);
     assert!(worst < 1e-5, "max difference {worst}");
 }
 
@@ -223,12 +215,8 @@ fn segment_checkpointing_gives_full_backprop_gradients() {
         let (seg, loss_seg) = grads(&w, 7, segment);
         assert_eq!(loss_full, loss_seg);
         for (t, (a, b)) in full.iter().zip(&seg).enumerate() {
-            let scale = a.iter().map(|v| v.abs()).fold(0.0f32, f32::max);
-            let worst = a
-                .iter()
-                .zip(b)
-                .map(|(x, y)| (x - y).abs())
-                .fold(0.0f32, f32::max);
+            let scale = max_abs(a);
+            let worst = max_abs_diff(a, b);
             assert!(scale > 0.0, "tensor {t} has gradients");
             assert!(
                 worst <= 1e-5 * scale,

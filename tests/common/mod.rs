@@ -185,6 +185,11 @@ pub fn run_python(python: &std::path::Path, script: &str, args: &[&str]) -> Stri
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
+/// The largest absolute value of a list (0 for an empty one).
+pub fn max_abs(values: &[f32]) -> f32 {
+    values.iter().map(|v| v.abs()).fold(0.0f32, f32::max)
+}
+
 /// The largest absolute difference between two equally long lists of values.
 pub fn max_abs_diff(a: &[f32], b: &[f32]) -> f32 {
     assert_eq!(a.len(), b.len(), "compared lists differ in length");
