@@ -9,7 +9,7 @@ use crate::image2::Image2;
 use crate::io::save_png;
 use crate::outputs::{CROSS_BACKGROUND, SliceSet};
 use crate::render::lathe::{SHIPPED_SEGMENTS, turned_bowl};
-use crate::render::{RenderConfig, Shape, render, turntable};
+use crate::render::{CameraConfig, RenderConfig, Shape, render, turntable};
 use crate::report::{Column, captioned_row, comparison_sheet};
 use crate::run_folder::RunLayout;
 use crate::slice::unfold_cross;
@@ -69,37 +69,34 @@ pub fn write_renders(layout: &RunLayout, compared: &Compared, tile: usize) -> Re
         ("base colour", &compared.base),
         ("procedural", &compared.procedural),
     ];
-    let cubes: Vec<(String, Image2)> = textures
-        .iter()
-        .map(|(name, t)| {
-            (
-                name.to_string(),
-                render(*t, &Shape::Cube, &cfg.camera, &cfg, n, n),
-            )
-        })
-        .collect();
-    let items: Vec<(String, &Image2)> = cubes
-        .iter()
-        .map(|(c, i)| (format!("cube: {c}"), i))
-        .collect();
-    save_png(&captioned_row(&items), &layout.render("cubes.png"))?;
+    let cubes = render_row(&textures, "cube", &Shape::Cube, &cfg.camera, &cfg, n);
+    save_png(&cubes, &layout.render("cubes.png"))?;
     let bowl = Shape::carved(&turned_bowl(SHIPPED_SEGMENTS), &cfg.carve);
-    let bowls: Vec<(String, Image2)> = textures[..1]
-        .iter()
-        .chain(&textures[2..])
-        .map(|(name, t)| {
-            (
-                name.to_string(),
-                render(*t, &bowl, &cfg.mesh_camera, &cfg, n, n),
-            )
-        })
-        .collect();
-    let items: Vec<(String, &Image2)> = bowls
-        .iter()
-        .map(|(c, i)| (format!("bowl: {c}"), i))
-        .collect();
-    save_png(&captioned_row(&items), &layout.render("bowls.png"))?;
+    let carved = [textures[0], textures[2]];
+    let bowls = render_row(&carved, "bowl", &bowl, &cfg.mesh_camera, &cfg, n);
+    save_png(&bowls, &layout.render("bowls.png"))?;
     let strip = turntable(&compared.nca, &Shape::Cube, &cfg, tile, tile);
     save_png(&strip, &layout.render("turntable_nca.png"))
         .map_err(|e| e.during(format!("writing renders into {}", layout.root().display())))
+}
+
+/// `textures` rendered as `shape` from `camera` at `n` x `n`, side by side, each captioned
+/// "{kind}: {name}".
+fn render_row(
+    textures: &[(&str, &dyn SolidTexture)],
+    kind: &str,
+    shape: &Shape,
+    camera: &CameraConfig,
+    cfg: &RenderConfig,
+    n: usize,
+) -> Image2 {
+    let renders: Vec<(String, Image2)> = textures
+        .iter()
+        .map(|(name, t)| {
+            let image = render(*t, shape, camera, cfg, n, n);
+            (format!("{kind}: {name}"), image)
+        })
+        .collect();
+    let items: Vec<(String, &Image2)> = renders.iter().map(|(c, i)| (c.clone(), i)).collect();
+    captioned_row(&items)
 }
