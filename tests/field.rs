@@ -302,66 +302,45 @@ fn ring_image_peaks_on_integer_years() {
 #[test]
 fn unknown_keys_and_bad_values_are_errors_naming_the_key() {
     let unknown = MINIMAL.replace("years_per_unit", "years_per_unt");
-    let msg = parse(&unknown).unwrap_err().to_string();
-    assert!(
-        msg.contains("years_per_unt") && msg.contains("test.toml"),
-        "{msg}"
-    );
+    assert_parse_error(&unknown, &["years_per_unt", "test.toml"]);
 
     let negative = MINIMAL.replace("12.0", "-3.0");
-    let msg = parse(&negative).unwrap_err().to_string();
-    assert!(
-        msg.contains("growth.years_per_unit") && msg.contains("-3"),
-        "{msg}"
-    );
+    assert_parse_error(&negative, &["growth.years_per_unit", "-3"]);
 
     let zero_dir = MINIMAL.replace("[0.0, 1.0, 0.1]", "[0.0, 0.0, 0.0]");
-    let msg = parse(&zero_dir).unwrap_err().to_string();
-    assert!(msg.contains("pith.direction"), "{msg}");
+    assert_parse_error(&zero_dir, &["pith.direction"]);
 
     let short_rates = format!("{MINIMAL}grid = [2, 4, 2]\nrates = [1.0, 2.0]\n");
-    let msg = parse(&short_rates).unwrap_err().to_string();
-    assert!(msg.contains("growth.rates") && msg.contains("16"), "{msg}");
+    assert_parse_error(&short_rates, &["growth.rates", "16"]);
 
     let bad_knot = format!(
         "{MINIMAL}[[knots]]\norigin = [0.0, 0.0, -2.5]\ndirection = [0.0, 0.0, 1.0]\nspeed = 3.0\n"
     );
-    let msg = parse(&bad_knot).unwrap_err().to_string();
-    assert!(msg.contains("knots[0].speed"), "{msg}");
+    assert_parse_error(&bad_knot, &["knots[0].speed"]);
 
     // Issue 16 item 7: arrays longer than their field are errors, not truncated.
     let four = MINIMAL.replace("[0.0, 1.0, 0.1]", "[0.0, 1.0, 0.1, 5.0]");
-    let msg = parse(&four).unwrap_err().to_string();
-    assert!(
-        msg.contains("pith.direction: 4 values given, expected 3"),
-        "{msg}"
-    );
+    assert_parse_error(&four, &["pith.direction: 4 values given, expected 3"]);
     // Issue 16 item 8: a huge direction overflowed its length and became another one.
     let huge = MINIMAL.replace("[0.0, 1.0, 0.1]", "[1e30, 1e30, 0.0]");
-    let msg = parse(&huge).unwrap_err().to_string();
-    assert!(
-        msg.contains("pith.direction") && msg.contains("1e6"),
-        "{msg}"
-    );
+    assert_parse_error(&huge, &["pith.direction", "1e6"]);
     let long_grid = format!("{MINIMAL}grid = [2, 4, 2, 8]\nrates = [1.0, 2.0]\n");
-    let msg = parse(&long_grid).unwrap_err().to_string();
-    assert!(msg.contains("growth.grid: 4 values given"), "{msg}");
+    assert_parse_error(&long_grid, &["growth.grid: 4 values given"]);
 
     let knot = "[[knots]]\norigin = [0.0, 0.0, -2.5]\ndirection = [0.0, 0.0, 1.0]\n";
     let many = format!("{MINIMAL}{}", knot.repeat(65));
-    let msg = parse(&many).unwrap_err().to_string();
-    assert!(
-        msg.contains("number of [[knots]]") && msg.contains("65"),
-        "{msg}"
-    );
+    assert_parse_error(&many, &["number of [[knots]]", "65"]);
 
     let wrong_type = MINIMAL.replace("12.0", "\"twelve\"");
-    assert!(
-        parse(&wrong_type)
-            .unwrap_err()
-            .to_string()
-            .contains("years_per_unit")
-    );
+    assert_parse_error(&wrong_type, &["years_per_unit"]);
+}
+
+/// Parsing `text` fails with a message that holds every one of `parts`.
+fn assert_parse_error(text: &str, parts: &[&str]) {
+    let msg = parse(text).unwrap_err().to_string();
+    for part in parts {
+        assert!(msg.contains(part), "{part:?} missing: {msg}");
+    }
 }
 
 #[test]

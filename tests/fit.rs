@@ -5,7 +5,6 @@
 mod common;
 
 use std::path::Path;
-use std::process::Command;
 
 use glam::Vec3;
 use xylem::config::Checker;
@@ -425,28 +424,22 @@ fn cli_fit_writes_every_listed_file_and_a_loadable_field() {
     let config = common::scratch("fit-cli-config.toml");
     xylem::config::write_config_copy(&config, &quick_config(), "test").unwrap();
     let out = common::scratch("fit-cli-out");
-    let status = Command::new(env!("CARGO_BIN_EXE_xylem"))
-        .args(["fit", "--json", "--faces", "A,B,C,D,E", "--sample"])
-        .arg(&sample)
-        .arg("--out")
-        .arg(&out)
-        .arg("--config")
-        .arg(&config)
-        .output()
-        .unwrap();
-    assert!(
-        status.status.success(),
-        "{}",
-        String::from_utf8_lossy(&status.stderr)
+    let (stdout, stderr) = common::run_ok_split(
+        common::xylem()
+            .args(["fit", "--json", "--faces", "A,B,C,D,E", "--sample"])
+            .arg(&sample)
+            .arg("--out")
+            .arg(&out)
+            .arg("--config")
+            .arg(&config),
     );
     // --json (issue 15 item 6): stdout is one JSON object, the human lines went to stderr.
-    let stdout = String::from_utf8_lossy(&status.stdout);
     assert_eq!(stdout.lines().count(), 1, "{stdout}");
     assert!(
         stdout.starts_with("{\"command\": \"fit\"") && stdout.contains("\"iso_mm_step2\": "),
         "{stdout}"
     );
-    assert!(String::from_utf8_lossy(&status.stderr).contains("iso-contour error"));
+    assert!(stderr.contains("iso-contour error"));
     let mut files = vec![
         "fit.toml".to_string(),
         "config.toml".into(),

@@ -128,21 +128,9 @@ fn shipped_bowl_matches_the_generator_and_renders() {
 fn bad_meshes_are_clear_errors() {
     let dir = common::scratch("mesh");
     std::fs::create_dir_all(&dir).unwrap();
-    let err = TriMesh::load_obj(&dir.join("none.obj"))
-        .unwrap_err()
-        .to_string();
-    assert!(
-        err.contains("none.obj") && err.contains("not found"),
-        "{err}"
-    );
+    assert_mesh_error(&dir, "none.obj", "not found");
     std::fs::write(dir.join("empty.obj"), "v 0 0 0\n").unwrap();
-    let err = TriMesh::load_obj(&dir.join("empty.obj"))
-        .unwrap_err()
-        .to_string();
-    assert!(
-        err.contains("empty.obj") && err.contains("no faces"),
-        "{err}"
-    );
+    assert_mesh_error(&dir, "empty.obj", "no faces");
     // Issue 16 item 11: a NaN vertex is an error, not an empty picture.
     std::fs::write(
         dir.join("nan.obj"),
@@ -157,6 +145,12 @@ fn bad_meshes_are_clear_errors() {
         }
     }
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Loading `dir/name` fails with an error naming the file and saying `what`.
+fn assert_mesh_error(dir: &std::path::Path, name: &str, what: &str) {
+    let err = TriMesh::load_obj(&dir.join(name)).unwrap_err().to_string();
+    assert!(err.contains(name) && err.contains(what), "{err}");
 }
 
 #[test]

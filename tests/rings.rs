@@ -2,7 +2,7 @@
 //! alone runs through `xylem fit`, and bad folders get errors that name the file.
 
 mod common;
-use common::{photos_only, run_ok_said, xylem};
+use common::{photos_only, run_err, run_ok, run_ok_said, xylem};
 
 use std::path::Path;
 
@@ -144,32 +144,25 @@ fn a_folder_of_photos_alone_runs_through_fit_and_rings() {
         "the photo tile of the fit's sheet is blank"
     );
 
-    let given = xylem()
-        .args(["fit", "--quiet", "--rings", "given", "--sample"])
-        .arg(&photos)
-        .arg("--out")
-        .arg(common::scratch("rings-fit-given"))
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&given.stderr);
-    assert!(!given.status.success());
+    let stderr = run_err(
+        xylem()
+            .args(["fit", "--quiet", "--rings", "given", "--sample"])
+            .arg(&photos)
+            .arg("--out")
+            .arg(common::scratch("rings-fit-given")),
+    );
     assert!(
         stderr.contains("A_arl") && stderr.contains("missing ring localisation image"),
         "{stderr}"
     );
 
     let rings_out = common::scratch("rings-cmd-out");
-    let rings = xylem()
-        .args(["rings", "--sample"])
-        .arg(&full)
-        .arg("--out")
-        .arg(&rings_out)
-        .output()
-        .unwrap();
-    assert!(
-        rings.status.success(),
-        "{}",
-        String::from_utf8_lossy(&rings.stderr)
+    run_ok(
+        xylem()
+            .args(["rings", "--sample"])
+            .arg(&full)
+            .arg("--out")
+            .arg(&rings_out),
     );
     for face in Face::ALL {
         assert!(rings_out.join(format!("{face}_arl.png")).is_file());
@@ -222,15 +215,13 @@ fn photos_that_are_not_square_differ_in_size_or_are_missing_are_named() {
     for (name, spoil, expected) in cases {
         let dir = photos_only(&full, &format!("rings-bad-{name}"));
         spoil(&dir);
-        let out = xylem()
-            .args(["rings", "--sample"])
-            .arg(&dir)
-            .arg("--out")
-            .arg(common::scratch(&format!("rings-bad-out-{name}")))
-            .output()
-            .unwrap();
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert!(!out.status.success(), "{name}");
+        let stderr = run_err(
+            xylem()
+                .args(["rings", "--sample"])
+                .arg(&dir)
+                .arg("--out")
+                .arg(common::scratch(&format!("rings-bad-out-{name}"))),
+        );
         assert!(stderr.contains(expected), "{name}: {stderr}");
         let _ = std::fs::remove_dir_all(&dir);
     }

@@ -85,13 +85,15 @@ pub fn repo(path: &str) -> PathBuf {
 
 /// Runs `cmd`, which must succeed; returns its stdout.
 pub fn run_ok(cmd: &mut Command) -> String {
+    run_ok_split(cmd).0
+}
+
+/// Runs `cmd`, which must succeed; returns its stdout and its stderr.
+pub fn run_ok_split(cmd: &mut Command) -> (String, String) {
     let out = cmd.output().expect("run xylem");
-    assert!(
-        out.status.success(),
-        "xylem failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8_lossy(&out.stdout).into_owned()
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(out.status.success(), "xylem failed: {stderr}");
+    (String::from_utf8_lossy(&out.stdout).into_owned(), stderr)
 }
 
 /// Runs `cmd`, which must succeed; returns what it said (stdout, then stderr).
