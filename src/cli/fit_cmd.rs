@@ -1,15 +1,12 @@
 //! `xylem fit`: fit a growth field and base colour to a sample folder.
 
-use std::path::PathBuf;
-
 use anyhow::Result;
 use clap::Args;
-use xylem::fit::FitConfig;
 use xylem::pipeline::{FitOptions, fit_into};
 use xylem::rings::RingSource;
-use xylem::sample::faces_or_all;
 
 use super::json_out::Summary;
+use super::output_args::{SampleWithFitConfig, help_texts};
 use super::progress::CliReporter;
 
 /// Fit the growth field (pith, rate grid, knots, ring positions) and the base colour to the
@@ -28,21 +25,18 @@ Writes OUT/fit.toml (the fitted field: `xylem field --config OUT/fit.toml` rende
 OUT/faces/X_arl.png and X_base.png for all six faces, OUT/cuts/cut1_arl.png, cut2_arl.png,
 cut1_base.png, cut2_base.png, OUT/sheet.png (per face: photo | target rings | fitted rings |
 both overlaid, target green and fit magenta | base colour; held-out faces framed red),
-OUT/loss.csv and OUT/config.toml (the fit config used)."
+OUT/loss.csv and OUT/config.toml (the fit config used).",
+    mut_args(help_texts(&[
+        ("sample", "Sample folder (Mokume layout)"),
+        ("faces", "Fit on these faces only, e.g. A,B,C,D,E (leave-one-face-out); \
+            default all six"),
+        ("config", "Fit config (TOML, see configs/fit/default.toml); \
+            default: the built-in defaults"),
+    ]))
 )]
 pub struct FitArgs {
-    /// Sample folder (Mokume layout).
-    #[arg(long, value_name = "DIR")]
-    pub sample: PathBuf,
-    /// Output folder (created; must be new, empty, or an earlier xylem output).
-    #[arg(long, short = 'o', value_name = "DIR")]
-    pub out: PathBuf,
-    /// Fit on these faces only, e.g. A,B,C,D,E (leave-one-face-out); default all six.
-    #[arg(long, value_name = "LIST")]
-    pub faces: Option<String>,
-    /// Fit config (TOML, see configs/fit/default.toml); default: the built-in defaults.
-    #[arg(long, value_name = "FILE")]
-    pub config: Option<PathBuf>,
+    #[command(flatten)]
+    pub input: SampleWithFitConfig,
     /// Ring images: auto (the folder's X_arl-unet.png / X_arl.png where present, predicted
     /// from the photos elsewhere), given (the folder's only), predict (from the photos for
     /// every face; see `xylem rings`).
@@ -51,18 +45,17 @@ pub struct FitArgs {
 }
 
 pub fn run(args: FitArgs) -> Result<()> {
-    let config = FitConfig::load_or_default(args.config.as_deref())?;
-    let faces = faces_or_all(args.faces.as_deref())?;
+    let (config, faces) = args.input.config_and_faces()?;
     let options = FitOptions {
-        sample: &args.sample,
+        sample: &args.input.sample,
         faces: &faces,
         config: &config,
         rings: args.rings,
     };
-    let result = fit_into(&options, &args.out, &CliReporter)?;
+    let result = fit_into(&options, &args.input.out, &CliReporter)?;
     Summary::new("fit")
-        .text("sample", &args.sample.display().to_string())
-        .text("out", &args.out.display().to_string())
+        .text("sample", &args.input.sample.display().to_string())
+        .text("out", &args.input.out.display().to_string())
         .number("iso_mm_step1", f64::from(result.iso_mm_step1))
         .number("iso_mm_step2", f64::from(result.iso_mm_step2))
         .integer("contours", result.contours as u64)

@@ -1,9 +1,13 @@
-//! Arguments shared by several commands: image size and output folder, WIDTHxHEIGHT sizes.
+//! Arguments shared by several commands: image size and output folder, a sample with a fit
+//! config, WIDTHxHEIGHT sizes.
 
 use std::path::PathBuf;
 
 use anyhow::{Result, bail};
-use clap::Args;
+use clap::{Arg, Args};
+use xylem::Face;
+use xylem::fit::FitConfig;
+use xylem::sample::faces_or_all;
 
 #[derive(Args, Debug)]
 pub struct SizeAndOut {
@@ -13,6 +17,42 @@ pub struct SizeAndOut {
     /// Output folder (created; must be new, empty, or an earlier xylem output).
     #[arg(long, short = 'o')]
     pub out: PathBuf,
+}
+
+/// The sample, output folder, faces and fit config of the commands that run on a sample
+/// with the fit's config (`fit`, `rings`). Each command words the help of `--sample`,
+/// `--faces` and `--config` for what it does with them ([`help_texts`] in its `#[command]`).
+#[derive(Args, Debug)]
+pub struct SampleWithFitConfig {
+    #[arg(long, value_name = "DIR")]
+    pub sample: PathBuf,
+    /// Output folder (created; must be new, empty, or an earlier xylem output).
+    #[arg(long, short = 'o', value_name = "DIR")]
+    pub out: PathBuf,
+    #[arg(long, value_name = "LIST")]
+    pub faces: Option<String>,
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+}
+
+impl SampleWithFitConfig {
+    /// The fit config (the built-in defaults without `--config`) and the faces (all six
+    /// without `--faces`).
+    pub fn config_and_faces(&self) -> Result<(FitConfig, Vec<Face>)> {
+        let config = FitConfig::load_or_default(self.config.as_deref())?;
+        let faces = faces_or_all(self.faces.as_deref())?;
+        Ok((config, faces))
+    }
+}
+
+/// For `#[command(mut_args(...))]`: the help text of each argument named in `helps`, so
+/// that shared arguments ([`SampleWithFitConfig`]) read right for each command. Mutating in
+/// place keeps the arguments' order (`mut_arg` would move them to the end of the usage line).
+pub fn help_texts(helps: &'static [(&'static str, &'static str)]) -> impl FnMut(Arg) -> Arg {
+    move |arg| match helps.iter().find(|(id, _)| arg.get_id().as_str() == *id) {
+        Some((_, help)) => arg.help(*help),
+        None => arg,
+    }
 }
 
 /// Parses a library value for clap, its error naming settings as this CLI's flags (the

@@ -1,19 +1,19 @@
 //! `xylem rings`: ring-localisation images predicted from a sample's photos.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
 use clap::Args;
 use xylem::Face;
 use xylem::config::write_config_copy;
-use xylem::fit::FitConfig;
 use xylem::io::{OutputDir, read_bytes, save_png, write_bytes_atomic};
 use xylem::rings::sheet::{RingsRow, rings_sheet};
 use xylem::rings::{Agreement, RingSource, agreement, load_with_rings};
-use xylem::sample::{Sample, faces_or_all};
+use xylem::sample::Sample;
 
 use super::json_out::say;
+use super::output_args::{SampleWithFitConfig, help_texts};
 
 /// Predict ring-localisation images (bright bands on the annual rings) from the face photos
 /// of a sample folder, for cubes that come without them.
@@ -28,26 +28,22 @@ face: photo | predicted | given | both overlaid, given green and predicted magen
 OUT/agreement.csv where the folder has its own ring images (correlation best within 2 px,
 precision and recall of ring pixels within 2 px) and OUT/config.toml (the fit config whose
 [localiser] table was used). `xylem fit` and `xylem run` run the same localiser themselves
-on faces without ring images.")]
+on faces without ring images.",
+    mut_args(help_texts(&[
+        ("sample", "Sample folder with the face photos A_col.png..F_col.png"),
+        ("faces", "These faces only, e.g. A,B,C; default all six"),
+        ("config", "Fit config whose [localiser] table sets the localiser \
+            (configs/fit/default.toml); default: the built-in defaults"),
+    ]))
+)]
 pub struct RingsArgs {
-    /// Sample folder with the face photos A_col.png..F_col.png.
-    #[arg(long, value_name = "DIR")]
-    pub sample: PathBuf,
-    /// Output folder (created; must be new, empty, or an earlier xylem output).
-    #[arg(long, short = 'o', value_name = "DIR")]
-    pub out: PathBuf,
-    /// These faces only, e.g. A,B,C; default all six.
-    #[arg(long, value_name = "LIST")]
-    pub faces: Option<String>,
-    /// Fit config whose [localiser] table sets the localiser (configs/fit/default.toml);
-    /// default: the built-in defaults.
-    #[arg(long, value_name = "FILE")]
-    pub config: Option<PathBuf>,
+    #[command(flatten)]
+    pub input: SampleWithFitConfig,
 }
 
 pub fn run(args: RingsArgs) -> Result<()> {
-    let cfg = FitConfig::load_or_default(args.config.as_deref())?;
-    let faces = faces_or_all(args.faces.as_deref())?;
+    let args = args.input;
+    let (cfg, faces) = args.config_and_faces()?;
     let started = Instant::now();
     let loaded = load_with_rings(&args.sample, &faces, RingSource::Predict, &cfg.localiser)?;
     let seconds = started.elapsed().as_secs_f64();
