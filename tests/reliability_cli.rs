@@ -388,8 +388,7 @@ fn files_in(dir: &std::path::Path) -> Vec<String> {
 #[test]
 fn bad_flag_values_are_refused_naming_the_flag() {
     let dir = reliability_support::scratch("rel-cli");
-    reliability_support::write_tiny_sample(&dir.join("S"), 16);
-    std::fs::write(dir.join("tiny.toml"), reliability_support::TINY_NCA).unwrap();
+    reliability_support::tiny_sample_and_nca(&dir, 16);
     xylem::io::npy::write_npy(&dir.join("v.npy"), &[2, 2, 2, 3], &[0.5; 24]).unwrap();
     std::fs::create_dir_all(dir.join("empty")).unwrap();
     let d = dir.display().to_string();
@@ -446,9 +445,7 @@ mod cli_bugs_found_by_the_suite {
     #[test]
     fn run_checks_species_before_the_stages() {
         let dir = reliability_support::scratch("rel-cli-species");
-        let sample = dir.join("S");
-        reliability_support::write_tiny_sample(&sample, 32);
-        std::fs::write(dir.join("tiny.toml"), reliability_support::TINY_NCA).unwrap();
+        let (sample, _) = reliability_support::tiny_sample_and_nca(&dir, 32);
         std::fs::write(dir.join("fit.toml"), reliability_support::FAST_FIT).unwrap();
         let outcome = run(xylem()
             .args([
@@ -555,8 +552,7 @@ mod cli_bugs_found_by_the_suite {
     #[test]
     fn train_refuses_a_fifo_as_the_fit() {
         let dir = reliability_support::scratch("rel-cli-fifo");
-        reliability_support::write_tiny_sample(&dir.join("S"), 16);
-        std::fs::write(dir.join("tiny.toml"), reliability_support::TINY_NCA).unwrap();
+        reliability_support::tiny_sample_and_nca(&dir, 16);
         let fifo = dir.join("fit.toml");
         let made = std::process::Command::new("mkfifo").arg(&fifo).status();
         if !made.is_ok_and(|s| s.success()) {

@@ -13,7 +13,7 @@ mod reliability_support;
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
-use reliability_support::{Expect, Tally, error, judge_run, repo, run, xylem};
+use reliability_support::{Expect, Tally, error, repo, xylem};
 use xylem::config::ConfigFile;
 
 const PRECIOUS: &[u8] = b"my notes, not to be lost\n";
@@ -52,10 +52,7 @@ struct Setup {
 
 fn setup(name: &str) -> Setup {
     let dir = reliability_support::scratch(name);
-    let sample = dir.join("inputs/S");
-    reliability_support::write_tiny_sample(&sample, 16);
-    let nca = dir.join("inputs/tiny.toml");
-    std::fs::write(&nca, reliability_support::TINY_NCA).unwrap();
+    let (sample, nca) = reliability_support::tiny_sample_and_nca(&dir.join("inputs"), 16);
     let volume = dir.join("inputs/v.npy");
     xylem::io::npy::write_npy(&volume, &[4, 4, 4, 3], &[0.5; 192]).unwrap();
     // A run folder as `xylem report` reads it: a sheet and a metrics table.
@@ -270,6 +267,11 @@ fn folder_commands(s: &Setup, out: &Path) -> Vec<(&'static str, Vec<OsString>)> 
     ]
 }
 
+/// The arguments of the command called `name` in `commands`.
+fn command_named(commands: Vec<(&'static str, Vec<OsString>)>, name: &str) -> Vec<OsString> {
+    commands.into_iter().find(|(n, _)| *n == name).unwrap().1
+}
+
 #[test]
 fn user_files_are_never_replaced_or_written_into() {
     let s = setup("rel-outputs");
@@ -294,25 +296,19 @@ fn user_files_are_never_replaced_or_written_into() {
         };
         let target = existing(file_name);
         let before = snapshot(&user);
-        let args = single_file_commands(&s, &target)
-            .into_iter()
-            .find(|(n, _)| *n == name)
-            .unwrap()
-            .1;
-        let outcome = run(xylem().args(&args));
-        tally.add(judge_run(
+        let args = command_named(single_file_commands(&s, &target), name);
+        tally.judge_call(
             &format!("{name} onto an existing file"),
-            &outcome,
+            xylem().args(&args),
             &error(&[file_name, "file exists", "--force"]),
-        ));
+        );
         assert_eq!(snapshot(&user), before, "{name} touched the user's folder");
         // With --force the file is replaced by a real output.
-        let outcome = run(xylem().args(&args).arg("--force"));
-        tally.add(judge_run(
+        tally.judge_call(
             &format!("{name} --force"),
-            &outcome,
+            xylem().args(&args).arg("--force"),
             &Expect::Fine,
-        ));
+        );
         assert_ne!(std::fs::read(&target).unwrap(), PRECIOUS, "{name} --force");
         std::fs::remove_dir_all(&user).unwrap();
     }
@@ -338,13 +334,16 @@ fn user_files_are_never_replaced_or_written_into() {
         ),
     ] {
         let before = snapshot(&user);
-        let outcome = run(xylem()
-            .arg("report")
-            .arg("--run")
-            .arg(&s.run)
-            .arg("--out")
-            .arg(&out));
-        tally.add(judge_run(label, &outcome, &expect));
+        tally.judge_call(
+            label,
+            xylem()
+                .arg("report")
+                .arg("--run")
+                .arg(&s.run)
+                .arg("--out")
+                .arg(&out),
+            &expect,
+        );
         assert_eq!(snapshot(&user), before, "{label}");
     }
     assert_eq!(
@@ -352,18 +351,17 @@ fn user_files_are_never_replaced_or_written_into() {
         metrics_before
     );
     assert_eq!(std::fs::read(&notes).unwrap(), PRECIOUS);
-    let outcome = run(xylem()
-        .arg("report")
-        .arg("--run")
-        .arg(&s.run)
-        .arg("--out")
-        .arg(user.join("page.html"))
-        .arg("--force"));
-    tally.add(judge_run(
+    tally.judge_call(
         "report --out page.html --force",
-        &outcome,
+        xylem()
+            .arg("report")
+            .arg("--run")
+            .arg(&s.run)
+            .arg("--out")
+            .arg(user.join("page.html"))
+            .arg("--force"),
         &Expect::Fine,
-    ));
+    );
     let html = std::fs::read_to_string(user.join("page.html")).unwrap();
     assert!(
         html.contains("<html") || html.contains("<!DOCTYPE"),
@@ -375,17 +373,12 @@ fn user_files_are_never_replaced_or_written_into() {
     for (name, _) in folder_commands(&s, Path::new("x")) {
         let file = existing("plain-file");
         let before = snapshot(&user);
-        let args = folder_commands(&s, &file)
-            .into_iter()
-            .find(|(n, _)| *n == name)
-            .unwrap()
-            .1;
-        let outcome = run(xylem().args(&args));
-        tally.add(judge_run(
+        let args = command_named(folder_commands(&s, &file), name);
+        tally.judge_call(
             &format!("{name} --out onto a file"),
-            &outcome,
+            xylem().args(&args),
             &error(&["plain-file", "must be a folder", "existing file"]),
-        ));
+        );
         assert_eq!(snapshot(&user), before, "{name}");
         std::fs::remove_file(&file).unwrap();
 
@@ -393,17 +386,12 @@ fn user_files_are_never_replaced_or_written_into() {
         std::fs::create_dir_all(&folder).unwrap();
         std::fs::write(folder.join("notes.txt"), PRECIOUS).unwrap();
         let before = snapshot(&user);
-        let args = folder_commands(&s, &folder)
-            .into_iter()
-            .find(|(n, _)| *n == name)
-            .unwrap()
-            .1;
-        let outcome = run(xylem().args(&args));
-        tally.add(judge_run(
+        let args = command_named(folder_commands(&s, &folder), name);
+        tally.judge_call(
             &format!("{name} --out into the user's folder"),
-            &outcome,
+            xylem().args(&args),
             &error(&["photos", "not empty", "not written by xylem", "new --out"]),
-        ));
+        );
         assert_eq!(
             snapshot(&user),
             before,
@@ -414,14 +402,13 @@ fn user_files_are_never_replaced_or_written_into() {
 
     // 5. Under a file: the folder cannot be made.
     let file = existing("plain-file");
-    let outcome = run(xylem()
-        .args(["field", "--preset", "minimal", "--size", "8", "--out"])
-        .arg(file.join("sub")));
-    tally.add(judge_run(
+    tally.judge_call(
         "field --out under a file",
-        &outcome,
+        xylem()
+            .args(["field", "--preset", "minimal", "--size", "8", "--out"])
+            .arg(file.join("sub")),
         &error(&["plain-file/sub"]),
-    ));
+    );
     assert_eq!(std::fs::read(&file).unwrap(), PRECIOUS);
     std::fs::remove_dir_all(&user).unwrap();
     tally.print("output paths");
@@ -436,55 +423,51 @@ fn xylem_folders_are_reused_cleanly() {
     let mut tally = Tally::default();
     let empty = dir.join("empty");
     std::fs::create_dir_all(&empty).unwrap();
-    let outcome = run(xylem()
-        .args(["field", "--preset", "minimal", "--size", "8", "--out"])
-        .arg(&empty));
-    tally.add(judge_run(
+    tally.judge_call(
         "field into an empty folder",
-        &outcome,
+        xylem()
+            .args(["field", "--preset", "minimal", "--size", "8", "--out"])
+            .arg(&empty),
         &Expect::Fine,
-    ));
+    );
     assert!(empty.join("faces/A.png").is_file() && empty.join(".xylem-output").is_file());
-    let outcome = run(xylem()
-        .args(["field", "--preset", "knots", "--size", "8", "--out"])
-        .arg(&empty));
-    tally.add(judge_run(
+    tally.judge_call(
         "field again into its own folder",
-        &outcome,
+        xylem()
+            .args(["field", "--preset", "knots", "--size", "8", "--out"])
+            .arg(&empty),
         &Expect::Fine,
-    ));
+    );
     let copy = xylem::field::FieldConfig::load(&empty.join("config.toml")).unwrap();
     assert!(!copy.knots.is_empty(), "the config copy is the new one");
 
     // A procedural re-run without --volume-size drops the earlier call's volume (it kept
     // the previous species' volume.npy beside the new images).
     let wood = dir.join("wood");
-    let outcome = run(xylem()
-        .args([
-            "procedural",
-            "--preset",
-            "oak",
-            "--size",
-            "8",
-            "--volume-size",
-            "4",
-            "--out",
-        ])
-        .arg(&wood));
-    tally.add(judge_run(
+    tally.judge_call(
         "procedural with a volume",
-        &outcome,
+        xylem()
+            .args([
+                "procedural",
+                "--preset",
+                "oak",
+                "--size",
+                "8",
+                "--volume-size",
+                "4",
+                "--out",
+            ])
+            .arg(&wood),
         &Expect::Fine,
-    ));
+    );
     assert!(wood.join("volume.npy").is_file());
-    let outcome = run(xylem()
-        .args(["procedural", "--preset", "maple", "--size", "8", "--out"])
-        .arg(&wood));
-    tally.add(judge_run(
+    tally.judge_call(
         "procedural again without",
-        &outcome,
+        xylem()
+            .args(["procedural", "--preset", "maple", "--size", "8", "--out"])
+            .arg(&wood),
         &Expect::Fine,
-    ));
+    );
     assert!(
         !wood.join("volume.npy").exists(),
         "the oak volume was kept beside maple"
@@ -495,14 +478,13 @@ fn xylem_folders_are_reused_cleanly() {
     let live = wood.join(format!(".volume.npy.{}.tmp", std::process::id()));
     std::fs::write(&dead, b"half").unwrap();
     std::fs::write(&live, b"half").unwrap();
-    let outcome = run(xylem()
-        .args(["procedural", "--preset", "maple", "--size", "8", "--out"])
-        .arg(&wood));
-    tally.add(judge_run(
+    tally.judge_call(
         "procedural with stale temporary files",
-        &outcome,
+        xylem()
+            .args(["procedural", "--preset", "maple", "--size", "8", "--out"])
+            .arg(&wood),
         &Expect::Fine,
-    ));
+    );
     assert!(!dead.exists(), "a dead process's temporary file was kept");
     assert!(
         live.exists(),

@@ -28,10 +28,7 @@ struct Inputs {
 
 fn inputs(name: &str) -> Inputs {
     let dir = reliability_support::scratch(name);
-    let sample = dir.join("S");
-    reliability_support::write_tiny_sample(&sample, 32);
-    let nca = dir.join("tiny.toml");
-    std::fs::write(&nca, TINY_NCA).unwrap();
+    let (sample, nca) = reliability_support::tiny_sample_and_nca(&dir, 32);
     let fit = dir.join("fit.toml");
     std::fs::write(&fit, FAST_FIT).unwrap();
     Inputs {
@@ -333,18 +330,16 @@ fn killed_stages_are_redone_and_changed_inputs_refused() {
     let folder = i.dir.join("typo");
     let mut typo = run_args(&i, &folder, &[]);
     typo[2] = i.dir.join("nothere").into();
-    let outcome = run(xylem().args(&typo));
-    tally.add(judge_run(
+    tally.judge_call(
         "run with a mistyped --sample",
-        &outcome,
+        xylem().args(&typo),
         &error(&["nothere", "sample folder not found"]),
-    ));
-    let outcome = run(xylem().args(run_args(&i, &folder, &[])));
-    tally.add(judge_run(
+    );
+    tally.judge_call(
         "the corrected run into the same folder",
-        &outcome,
+        xylem().args(run_args(&i, &folder, &[])),
         &Expect::Fine,
-    ));
+    );
     tally.print("kill and resume (xylem run)");
     std::fs::remove_dir_all(&i.dir).unwrap();
 }
@@ -414,53 +409,47 @@ fn killed_training_resumes_exactly_or_refuses() {
     };
     let mut tally = Tally::default();
     let whole = i.dir.join("whole");
-    let outcome = run(xylem().args(fresh(&whole, &[])));
-    tally.add(judge_run(
+    tally.judge_call(
         "an uninterrupted training",
-        &outcome,
+        xylem().args(fresh(&whole, &[])),
         &Expect::Fine,
-    ));
+    );
 
     let killed = i.dir.join("killed");
-    let outcome = run(xylem().args(fresh(&killed, &["--stop-after", "1"])));
-    tally.add(judge_run(
+    tally.judge_call(
         "a training killed after one iteration",
-        &outcome,
+        xylem().args(fresh(&killed, &["--stop-after", "1"])),
         &Expect::Fine,
-    ));
+    );
     assert!(
         !killed.join("model.bpk").exists(),
         "a killed training wrote its model"
     );
-    let outcome = run(xylem().args(fresh(&killed, &[])));
-    tally.add(judge_run(
+    tally.judge_call(
         "the same training started again without --resume",
-        &outcome,
+        xylem().args(fresh(&killed, &[])),
         &error(&["already holds a training run", "--resume"]),
-    ));
-    let outcome = run(xylem().args(train(&i.sample, &killed, &["--resume", "--faces", "A,B"])));
-    tally.add(judge_run(
+    );
+    tally.judge_call(
         "--resume with --faces",
-        &outcome,
+        xylem().args(train(&i.sample, &killed, &["--resume", "--faces", "A,B"])),
         &error(&[
             "--resume continues with the run's own",
             "drop --config, --fit and --faces",
         ]),
-    ));
+    );
     let other_sample = i.dir.join("S2");
     reliability_support::write_tiny_sample(&other_sample, 16);
-    let outcome = run(xylem().args(train(&other_sample, &killed, &["--resume"])));
-    tally.add(judge_run(
+    tally.judge_call(
         "--resume on other photos (trained on them)",
-        &outcome,
+        xylem().args(train(&other_sample, &killed, &["--resume"])),
         &error(&["sample.toml", "sample: was"]),
-    ));
-    let outcome = run(xylem().args(train(&i.sample, &killed, &["--resume"])));
-    tally.add(judge_run(
+    );
+    tally.judge_call(
         "--resume after the kill",
-        &outcome,
+        xylem().args(train(&i.sample, &killed, &["--resume"])),
         &Expect::Fine,
-    ));
+    );
     assert!(
         std::fs::read(killed.join("loss.csv")).unwrap()
             == std::fs::read(whole.join("loss.csv")).unwrap(),
@@ -471,12 +460,11 @@ fn killed_training_resumes_exactly_or_refuses() {
         "the resumed training's weights differ from the uninterrupted one's"
     );
     // Resuming a finished training changes nothing.
-    let outcome = run(xylem().args(train(&i.sample, &whole, &["--resume"])));
-    tally.add(judge_run(
+    tally.judge_call(
         "--resume of a finished training",
-        &outcome,
+        xylem().args(train(&i.sample, &whole, &["--resume"])),
         &Expect::Fine,
-    ));
+    );
     assert!(weights(&killed) == weights(&whole));
     tally.print("kill and resume (xylem train)");
     std::fs::remove_dir_all(&i.dir).unwrap();

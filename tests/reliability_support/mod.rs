@@ -170,6 +170,13 @@ impl Tally {
         }
     }
 
+    /// Runs `cmd`, judges it as the row `row` and counts it; returns the outcome.
+    pub fn judge_call(&mut self, row: &str, cmd: &mut Command, expect: &Expect) -> Outcome {
+        let outcome = run(cmd);
+        self.add(judge_run(row, &outcome, expect));
+        outcome
+    }
+
     pub fn total(&self) -> usize {
         self.clear_errors + self.right_results
     }
@@ -226,6 +233,15 @@ pub fn write_tiny_sample(dir: &Path, n: usize) {
 }
 
 /// A tiny NCA training config: an 8^3 grid, two iterations of 2-3 steps, the moment loss.
+/// The inputs most CLI probes need under `dir`: a tiny sample `S` ([`write_tiny_sample`],
+/// `n` px) and the tiny NCA config `tiny.toml` ([`TINY_NCA`]); returns their paths.
+pub fn tiny_sample_and_nca(dir: &Path, n: usize) -> (PathBuf, PathBuf) {
+    let (sample, nca) = (dir.join("S"), dir.join("tiny.toml"));
+    write_tiny_sample(&sample, n);
+    std::fs::write(&nca, TINY_NCA).unwrap();
+    (sample, nca)
+}
+
 pub const TINY_NCA: &str = "seed = 2\n[model]\nhidden = 8\n[volume]\nsize = 8\ncrop = 8\n\
     [schedule]\niterations = 2\nsteps = [2, 3]\n[pool]\nsize = 0\n[loss]\nface = \"moments\"\n";
 
