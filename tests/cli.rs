@@ -3,7 +3,7 @@
 use std::path::Path;
 
 mod common;
-use common::{repo, run_err, run_ok, scratch, xylem};
+use common::{repo, run_err, run_ok, scratch, scratch_dir, xylem};
 use xylem::config::ConfigFile;
 
 #[test]
@@ -40,8 +40,7 @@ fn field_writes_faces_cuts_cross_and_config() {
 
 #[test]
 fn slice_writes_one_image_and_refuses_to_overwrite() {
-    let dir = scratch("slice");
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch_dir("slice");
     let png = dir.join("cut.png");
     let field = repo("configs/fields/knot_dead.toml");
     let args = |plane: &str| {
@@ -64,8 +63,7 @@ fn slice_writes_one_image_and_refuses_to_overwrite() {
 
 #[test]
 fn bad_inputs_give_clear_errors() {
-    let dir = scratch("bad");
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch_dir("bad");
     let cfg = dir.join("bad.toml");
     std::fs::write(&cfg, "[pith]\norigin = [0.0, 0.0, -2.5]\ndirection = [0.0, 1.0, 0.1]\n[growth]\nyears_per_unit = 0.0\n").unwrap();
     let err = run_err(
@@ -91,14 +89,7 @@ fn bad_inputs_give_clear_errors() {
 
     // A folder with the user's files is never written into.
     let user = dir.join("user");
-    std::fs::create_dir_all(&user).unwrap();
-    std::fs::write(user.join("notes.txt"), "mine").unwrap();
-    let err = run_err(
-        xylem()
-            .args(["field", "--preset", "far", "--size", "8", "--out"])
-            .arg(&user),
-    );
-    assert!(err.contains("not written by xylem"), "{err}");
+    assert_refuses_users_folder(&["field", "--preset", "far", "--size", "8", "--out"], &user);
     assert_eq!(std::fs::read_dir(&user).unwrap().count(), 1);
 
     let err = run_err(
@@ -108,6 +99,15 @@ fn bad_inputs_give_clear_errors() {
     );
     assert!(err.contains("knot_alive"), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `args` followed by a folder of the user's (`folder`, made with a notes file in it) is
+/// refused as not written by xylem.
+fn assert_refuses_users_folder(args: &[&str], folder: &Path) {
+    std::fs::create_dir_all(folder).unwrap();
+    std::fs::write(folder.join("notes.txt"), "mine").unwrap();
+    let err = run_err(xylem().args(args).arg(folder));
+    assert!(err.contains("not written by xylem"), "{err}");
 }
 
 #[test]
@@ -272,14 +272,8 @@ fn gallery_builds_samples_from_species_presets() {
     assert!(err.contains("teak") && err.contains("chestnut"), "{err}");
     // Issue 16 item 11: not into a folder of the user's.
     let mine = out.join("mine");
-    std::fs::create_dir_all(&mine).unwrap();
-    std::fs::write(mine.join("notes.txt"), "mine").unwrap();
-    let err = run_err(
-        xylem()
-            .args(["gallery", "--size", "16", "--species", "oak", "--out"])
-            .arg(&mine),
-    );
-    assert!(err.contains("not written by xylem"), "{err}");
+    let gallery = ["gallery", "--size", "16", "--species", "oak", "--out"];
+    assert_refuses_users_folder(&gallery, &mine);
     assert!(!mine.join("oak").exists());
     std::fs::remove_dir_all(&out).unwrap();
 }
@@ -288,8 +282,7 @@ fn gallery_builds_samples_from_species_presets() {
 /// to write HTML under a name that is not a page (e.g. the run's own metrics.csv).
 #[test]
 fn report_keeps_existing_files() {
-    let dir = scratch("report-keep");
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch_dir("report-keep");
     let notes = dir.join("notes.html");
     std::fs::write(&notes, "my notes").unwrap();
     let metrics = dir.join("metrics.csv");
@@ -347,8 +340,7 @@ fn absurd_run_and_synth_options_are_refused_up_front() {
 /// Issue 16 item 9: `texture2d` refuses a target too small to hold a texture.
 #[test]
 fn texture2d_refuses_a_one_pixel_target() {
-    let dir = scratch("t2d-tiny");
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch_dir("t2d-tiny");
     let target = dir.join("tiny.png");
     image::RgbImage::from_pixel(1, 1, image::Rgb([120, 90, 60]))
         .save(&target)

@@ -34,8 +34,7 @@ fn write_wood(path: &Path, side: usize, phase: f32) {
 
 #[test]
 fn compare_prints_one_json_object_and_writes_the_sheet() {
-    let dir = common::scratch("compare");
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch_dir("compare");
     let (a, b) = (dir.join("a.png"), dir.join("b.png"));
     write_wood(&a, 64, 0.0);
     write_wood(&b, 32, 1.0);
@@ -73,8 +72,7 @@ fn compare_prints_one_json_object_and_writes_the_sheet() {
 
 #[test]
 fn texture2d_writes_result_target_and_config() {
-    let dir = common::scratch("texture2d");
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch_dir("texture2d");
     let target = dir.join("target-photo.png");
     write_wood(&target, 48, 0.0);
     let out = dir.join("out");

@@ -126,8 +126,7 @@ fn shipped_bowl_matches_the_generator_and_renders() {
 
 #[test]
 fn bad_meshes_are_clear_errors() {
-    let dir = common::scratch("mesh");
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch_dir("mesh");
     assert_mesh_error(&dir, "none.obj", "not found");
     std::fs::write(dir.join("empty.obj"), "v 0 0 0\n").unwrap();
     assert_mesh_error(&dir, "empty.obj", "no faces");

@@ -328,8 +328,7 @@ fn screenshot_is_a_picture(browser: &Path, page: &Path) {
 
 #[test]
 fn bad_metrics_tables_are_clear_errors() {
-    let dir = common::scratch("metrics");
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch_dir("metrics");
     // Issue 16 item 11: a folder without run outputs (e.g. a sample) is not reported on.
     let err = write_report(&dir, &dir.join("r/index.html"), "x")
         .unwrap_err()
@@ -351,8 +350,7 @@ fn bad_metrics_tables_are_clear_errors() {
 /// page; a run without timings says so.
 #[test]
 fn damaged_side_files_become_notes() {
-    let dir = common::scratch("notes");
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch_dir("notes");
     std::fs::write(dir.join("metrics.csv"), "method,image,swd\nnca,cut1,0.1\n").unwrap();
     let page = dir.join("report/index.html");
     write_report(&dir, &page, "x").unwrap();

@@ -37,8 +37,7 @@ fn broken_sample_folders_are_clear_errors() {
     let Some(dir) = common::mokume_dir() else {
         return;
     };
-    let tmp = common::scratch("sample");
-    std::fs::create_dir_all(&tmp).unwrap();
+    let tmp = common::scratch_dir("sample");
     for f in Face::ALL {
         for kind in ["col", "arl-unet"] {
             let name = format!("{f}_{kind}.png");

@@ -73,6 +73,13 @@ pub fn scratch(name: &str) -> Scratch {
     Scratch(dir)
 }
 
+/// [`scratch`], created.
+pub fn scratch_dir(name: &str) -> Scratch {
+    let dir = scratch(name);
+    std::fs::create_dir_all(&dir).expect("create scratch folder");
+    dir
+}
+
 /// The `xylem` binary built for these tests.
 pub fn xylem() -> Command {
     Command::new(env!("CARGO_BIN_EXE_xylem"))

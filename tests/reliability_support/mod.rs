@@ -196,9 +196,7 @@ pub use crate::common::{Scratch, repo, xylem};
 
 /// A fresh, existing scratch folder (`common::scratch`, created; removed when dropped).
 pub fn scratch(name: &str) -> Scratch {
-    let dir = crate::common::scratch(name);
-    std::fs::create_dir_all(&dir).expect("create scratch folder");
-    dir
+    crate::common::scratch_dir(name)
 }
 
 /// Six `n` x `n` face photos of brown wood with rings and pixel noise, and their exact ring
