@@ -80,6 +80,23 @@ fn read_with_openvdb(
     Some(facts)
 }
 
+/// A file at `path` with the one fog-volume grid `name` of `dims` voxels, read back as
+/// [`read_with_openvdb`] does.
+fn one_fog_grid(
+    path: &Path,
+    name: &str,
+    values: VdbValues<'_>,
+    dims: [usize; 3],
+) -> Option<HashMap<(String, String), String>> {
+    let grid = VdbGrid {
+        name,
+        values,
+        class: VdbClass::FogVolume,
+    };
+    write_vdb(path, &[grid]).unwrap();
+    read_with_openvdb(path, &[(name, dims)])
+}
+
 fn floats(s: &str) -> Vec<f64> {
     s.split_whitespace().map(|v| v.parse().unwrap()).collect()
 }
@@ -185,16 +202,7 @@ fn cube_with_many_leaves_uses_a_uniform_map() {
     let color = coded(dims, 3);
     let dir = common::scratch("vdb-cube");
     let path = dir.join("cube.vdb");
-    write_vdb(
-        &path,
-        &[VdbGrid {
-            name: "color",
-            values: VdbValues::Vec3(&color),
-            class: VdbClass::FogVolume,
-        }],
-    )
-    .unwrap();
-    let Some(facts) = read_with_openvdb(&path, &[("color", dims)]) else {
+    let Some(facts) = one_fog_grid(&path, "color", VdbValues::Vec3(&color), dims) else {
         return;
     };
     check_grid(&facts, "color", dims, 3, "fog volume", (125, 3));
@@ -212,16 +220,7 @@ fn long_volume_spans_several_internal_nodes() {
     let density = coded(dims, 1);
     let dir = common::scratch("vdb-long");
     let path = dir.join("long.vdb");
-    write_vdb(
-        &path,
-        &[VdbGrid {
-            name: "density",
-            values: VdbValues::Float(&density),
-            class: VdbClass::FogVolume,
-        }],
-    )
-    .unwrap();
-    let Some(facts) = read_with_openvdb(&path, &[("density", dims)]) else {
+    let Some(facts) = one_fog_grid(&path, "density", VdbValues::Float(&density), dims) else {
         return;
     };
     // Leaves 1 x 17 x 513; lower nodes 1 x 2 x 33; upper nodes 1 x 1 x 2; the root.

@@ -507,6 +507,27 @@ struct Target {
     cases: usize,
 }
 
+impl Target {
+    /// A target whose mutated `file` is what the loader is given, so errors must name it.
+    fn file(
+        name: &'static str,
+        kind: Kind,
+        seeds: Vec<Vec<u8>>,
+        file: PathBuf,
+        cases: usize,
+    ) -> Self {
+        let names = show(&file);
+        Target {
+            name,
+            names,
+            kind,
+            seeds,
+            file,
+            cases,
+        }
+    }
+}
+
 /// What a loader made of one file.
 enum Verdict {
     Loaded,
@@ -727,14 +748,7 @@ fn npy_readers_survive_crafted_files() {
         seeds.push(read(&path));
     }
     let file = dir.join("case.npy");
-    let target = |name, cases| Target {
-        name,
-        names: show(&file),
-        kind: Kind::Npy,
-        seeds: seeds.clone(),
-        file: file.clone(),
-        cases,
-    };
+    let target = |name, cases| Target::file(name, Kind::Npy, seeds.clone(), file.clone(), cases);
     let f = file.clone();
     fuzz(&dir, target("npy-volume", 2000), 11, move || {
         verdict(read_volume(&f), sane_volume)
@@ -776,14 +790,7 @@ fn png_loaders_survive_crafted_files() {
     seeds.push(read(&path));
 
     let file = dir.join("case.png");
-    let target = |name, cases| Target {
-        name,
-        names: show(&file),
-        kind: Kind::Png,
-        seeds: seeds.clone(),
-        file: file.clone(),
-        cases,
-    };
+    let target = |name, cases| Target::file(name, Kind::Png, seeds.clone(), file.clone(), cases);
     let f = file.clone();
     fuzz(&dir, target("png-rgb", 1500), 21, move || {
         verdict(load_rgb(&f), sane_image(3))
@@ -888,14 +895,7 @@ fn fuzz_config<T: serde::Serialize + PartialEq + std::fmt::Debug + 'static>(
     let f = file.clone();
     fuzz(
         dir,
-        Target {
-            name,
-            names: show(&file),
-            kind: Kind::Text,
-            seeds,
-            file,
-            cases,
-        },
+        Target::file(name, Kind::Text, seeds, file, cases),
         seed,
         move || {
             verdict(load(&f), |value| {
@@ -988,14 +988,7 @@ fn config_loaders_survive_crafted_files() {
     let f = file.clone();
     fuzz(
         &dir,
-        Target {
-            name: "texture2d-config",
-            names: show(&file),
-            kind: Kind::Text,
-            seeds,
-            file,
-            cases: 500,
-        },
+        Target::file("texture2d-config", Kind::Text, seeds, file, 500),
         47,
         move || verdict(Texture2dConfig::load(&f), any),
     );
@@ -1012,14 +1005,7 @@ fn config_loaders_survive_crafted_files() {
     let f = file.clone();
     fuzz(
         &dir,
-        Target {
-            name: "run-record",
-            names: show(&file),
-            kind: Kind::Text,
-            seeds,
-            file,
-            cases: 400,
-        },
+        Target::file("run-record", Kind::Text, seeds, file, 400),
         48,
         move || verdict(record.check_or_record(&f, true), any),
     );
@@ -1049,14 +1035,7 @@ fn nrrd_and_mitsuba_readers_survive_crafted_files() {
     let f = file.clone();
     fuzz(
         &dir,
-        Target {
-            name: "nrrd",
-            names: show(&file),
-            kind: Kind::Nrrd,
-            seeds: nrrd,
-            file,
-            cases: 1500,
-        },
+        Target::file("nrrd", Kind::Nrrd, nrrd, file, 1500),
         51,
         move || verdict(xylem::export::nrrd::read_nrrd(&f), sane_volume),
     );
@@ -1064,14 +1043,7 @@ fn nrrd_and_mitsuba_readers_survive_crafted_files() {
     let f = file.clone();
     fuzz(
         &dir,
-        Target {
-            name: "mitsuba-vol",
-            names: show(&file),
-            kind: Kind::Binary,
-            seeds: vol,
-            file,
-            cases: 1500,
-        },
+        Target::file("mitsuba-vol", Kind::Binary, vol, file, 1500),
         52,
         move || {
             verdict(xylem::export::mitsuba::read_vol(&f), |(v, _)| {
@@ -1187,14 +1159,7 @@ fn model_and_checkpoint_loaders_survive_crafted_files() {
     let f = file.clone();
     fuzz(
         &dir,
-        Target {
-            name: "model-fit-toml",
-            names: show(&file),
-            kind: Kind::Text,
-            seeds,
-            file,
-            cases: 400,
-        },
+        Target::file("model-fit-toml", Kind::Text, seeds, file, 400),
         64,
         move || verdict(FitRecord::load(&f, None), any),
     );
