@@ -19,9 +19,13 @@
 //!   shifts of up to 3 px) and the iso-contour error (mm) of its contours, under the step-1
 //!   field (G = r around the step-1 pith, with the final ring positions) and the final field.
 
-use std::path::{Path, PathBuf};
+#[path = "common/fit_bench.rs"]
+mod fit_bench;
+
+use std::path::Path;
 use std::time::Instant;
 
+use fit_bench::{mean, mokume_dir, table_header};
 use xylem::config::ConfigFile;
 use xylem::field::{FieldConfig, GrowthField, PithAxis, RingImage};
 use xylem::fit::metrics::{
@@ -102,16 +106,15 @@ const CASES: &[(&str, &str)] = &[
     ),
 ];
 
-fn table_header() {
-    println!(
-        "| case | pith distance error (cm) | direction error (deg) | iso error step 1 (mm) | iso error step 2 (mm) | iso error of truth (mm) | faces corr. | cut1 corr. | cut2 corr. | time (s) |"
+fn cases_header() {
+    table_header(
+        "case | pith distance error (cm) | direction error (deg) | iso error step 1 (mm) | iso error step 2 (mm) | iso error of truth (mm) | faces corr. | cut1 corr. | cut2 corr. | time (s)",
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|");
 }
 
 fn synthetic(cfg: &FitConfig) {
     let root = std::env::temp_dir().join(format!("xylem-bench-fit-{}", std::process::id()));
-    table_header();
+    cases_header();
     for (k, (name, text)) in CASES.iter().enumerate() {
         let truth_cfg = FieldConfig::parse(text, Path::new(name)).expect("case config");
         let dir = root.join(format!("case{k}"));
@@ -123,7 +126,7 @@ fn synthetic(cfg: &FitConfig) {
 
 fn samples(cfg: &FitConfig) {
     let root = std::env::temp_dir().join(format!("xylem-bench-fit-samples-{}", std::process::id()));
-    table_header();
+    cases_header();
     for species in ["chestnut", "softwood", "oak"] {
         let dir = root.join(species);
         let wood = xylem::presets::load_species_preset(species).expect("species preset");
@@ -158,17 +161,10 @@ fn report_case(name: &str, truth_cfg: &FieldConfig, dir: &Path, cfg: &FitConfig)
     }
 }
 
-fn mokume_dir() -> PathBuf {
-    std::env::var_os("XYLEM_MOKUME_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/mokume"))
-}
-
 fn real(cfg: &FitConfig) {
-    println!(
-        "| sample | contours (points) | iso loss step 1 (cube units) | iso loss step 2 | iso error step 1 (mm) | iso error step 2 (mm) | contours / pith / distortion / colour (s) | total (s) |"
+    table_header(
+        "sample | contours (points) | iso loss step 1 (cube units) | iso loss step 2 | iso error step 1 (mm) | iso error step 2 (mm) | contours / pith / distortion / colour (s) | total (s)",
     );
-    println!("|---|---|---|---|---|---|---|---|");
     for name in ["CN03", "H11"] {
         let sample = load(&mokume_dir().join(name), &Face::ALL);
         let (r, secs) = fit(&sample, cfg);
@@ -190,10 +186,9 @@ fn real(cfg: &FitConfig) {
 }
 
 fn lofo(cfg: &FitConfig) {
-    println!(
-        "| sample | held-out face | ARL corr. step 1 | ARL corr. final | held-out iso error step 1 (mm) | held-out iso error final (mm) | time (s) |"
+    table_header(
+        "sample | held-out face | ARL corr. step 1 | ARL corr. final | held-out iso error step 1 (mm) | held-out iso error final (mm) | time (s)",
     );
-    println!("|---|---|---|---|---|---|---|");
     for name in ["CN03", "H11"] {
         let dir = mokume_dir().join(name);
         let full = load(&dir, &Face::ALL);
@@ -257,9 +252,4 @@ impl SolidTexture for Step1Field {
     fn eval(&self, p: glam::Vec3, out: &mut [f32]) {
         out[0] = self.0.radius(p);
     }
-}
-
-fn mean(values: impl IntoIterator<Item = f32>) -> f32 {
-    let v: Vec<f32> = values.into_iter().collect();
-    v.iter().sum::<f32>() / v.len().max(1) as f32
 }

@@ -18,9 +18,13 @@
 //!   on the held-out face the correlation (best within 3 px) of the predicted I(G) with the
 //!   given U-Net image and the iso error (mm) of that face's given contours.
 
-use std::path::{Path, PathBuf};
+#[path = "common/fit_bench.rs"]
+mod fit_bench;
+
+use std::path::Path;
 use std::time::Instant;
 
+use fit_bench::{mean, mokume_dir, table_header};
 use xylem::config::ConfigFile;
 use xylem::field::{FieldConfig, GrowthField, RingImage};
 use xylem::fit::metrics::{iso_error_mm, shifted_correlation, truth_ring_correlations};
@@ -48,12 +52,6 @@ fn main() {
         "lofo" => lofo(&cfg),
         other => panic!("unknown mode {other:?}; expected real, synthetic or lofo"),
     }
-}
-
-fn mokume_dir() -> PathBuf {
-    std::env::var_os("XYLEM_MOKUME_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/mokume"))
 }
 
 fn load(dir: &Path, faces: &[Face], source: RingSource, cfg: &FitConfig) -> Sample {
@@ -95,10 +93,9 @@ fn agreement_rows(name: &str, dir: &Path, cfg: &FitConfig) -> ([f32; 3], f64) {
 }
 
 fn agreement_header() {
-    println!(
-        "| sample | face | correlation (best within 2 px) | precision (2 px) | recall (2 px) |"
+    table_header(
+        "sample | face | correlation (best within 2 px) | precision (2 px) | recall (2 px)",
     );
-    println!("|---|---|---|---|---|");
 }
 
 fn real(cfg: &FitConfig) {
@@ -115,10 +112,9 @@ fn real(cfg: &FitConfig) {
         );
     }
     println!();
-    println!(
-        "| sample | rings | iso error of the given contours (mm) | faces corr. with the given rings (best within 3 px) | fit time (s) |"
+    table_header(
+        "sample | rings | iso error of the given contours (mm) | faces corr. with the given rings (best within 3 px) | fit time (s)",
     );
-    println!("|---|---|---|---|---|");
     for name in ["CN03", "H11"] {
         let dir = mokume_dir().join(name);
         let given = load(&dir, &Face::ALL, RingSource::Given, cfg);
@@ -157,10 +153,9 @@ fn synthetic(cfg: &FitConfig) {
         agreement_rows(species, &dir, cfg);
     }
     println!();
-    println!(
-        "| sample | rings | faces corr. with truth | cut1 corr. | cut2 corr. | iso error of the exact contours (mm) |"
+    table_header(
+        "sample | rings | faces corr. with truth | cut1 corr. | cut2 corr. | iso error of the exact contours (mm)",
     );
-    println!("|---|---|---|---|---|---|");
     for &species in &names {
         let dir = root.join(species);
         let truth_cfg = FieldConfig::load(&dir.join("truth/field.toml")).expect("truth field");
@@ -192,10 +187,9 @@ fn synthetic(cfg: &FitConfig) {
 }
 
 fn lofo(cfg: &FitConfig) {
-    println!(
-        "| sample | rings | held-out face | ARL corr. (best within 3 px) | held-out iso error (mm) |"
+    table_header(
+        "sample | rings | held-out face | ARL corr. (best within 3 px) | held-out iso error (mm)",
     );
-    println!("|---|---|---|---|---|");
     for name in ["CN03", "H11"] {
         let dir = mokume_dir().join(name);
         let given = load(&dir, &Face::ALL, RingSource::Given, cfg);
@@ -220,9 +214,4 @@ fn lofo(cfg: &FitConfig) {
             );
         }
     }
-}
-
-fn mean(values: impl IntoIterator<Item = f32>) -> f32 {
-    let v: Vec<f32> = values.into_iter().collect();
-    v.iter().sum::<f32>() / v.len().max(1) as f32
 }
