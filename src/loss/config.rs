@@ -168,12 +168,11 @@ impl FilterConfig {
             16,
             "filter orientations",
         )?;
-        if self.orientations > 0 && self.kernel_sizes.contains(&1) {
-            return Err(check.error(
-                "kernel_sizes",
-                "contains 1 while `orientations` > 0: oriented filters need kernels of 3 or more",
-            ));
-        }
+        self.check_no_unit_kernel(
+            check,
+            self.orientations > 0,
+            "`orientations` > 0: oriented filters",
+        )?;
         check.range(
             "elongation",
             self.elongation,
@@ -188,14 +187,25 @@ impl FilterConfig {
             16.0,
             "norm of the chroma-edge filters (0: none)",
         )?;
-        if self.chroma > 0.0 && self.kernel_sizes.contains(&1) {
-            return Err(check.error(
-                "kernel_sizes",
-                "contains 1 while `chroma` > 0: chroma-edge filters need kernels of 3 or more",
-            ));
-        }
+        self.check_no_unit_kernel(
+            check,
+            self.chroma > 0.0,
+            "`chroma` > 0: chroma-edge filters",
+        )?;
         if self.random + self.orientations == 0 {
             return Err(check.error("random", "= 0 and `orientations` = 0: the bank is empty"));
+        }
+        Ok(())
+    }
+
+    /// A kernel of side 1 has no neighbours to compare: filters that need them (`which`,
+    /// in use when `in_use`) refuse it.
+    fn check_no_unit_kernel(&self, check: &Checker, in_use: bool, which: &str) -> Result<()> {
+        if in_use && self.kernel_sizes.contains(&1) {
+            return Err(check.error(
+                "kernel_sizes",
+                format!("contains 1 while {which} need kernels of 3 or more"),
+            ));
         }
         Ok(())
     }
