@@ -11,13 +11,12 @@ use xylem::config::ConfigFile;
 use xylem::device::DeviceKind;
 use xylem::field::{GrowthField, ring_intensity};
 use xylem::frame::Face;
-use xylem::io::{OutputDir, save_png};
+use xylem::io::save_png;
 use xylem::nca::config::Engine;
 use xylem::nca::fit_source::load_fit;
 use xylem::nca::model_dir::load_weights;
 use xylem::nca::tensors::to_vec;
-use xylem::nca::train::loss::MomentLoss;
-use xylem::nca::train::session::{TrainOptions, run_training};
+use xylem::nca::train::session::TrainOptions;
 use xylem::nca::train::targets::photo_mean;
 use xylem::nca::train::{TrainData, Trainer};
 use xylem::nca::{FaceLossKind, TrainConfig, face_loss};
@@ -71,10 +70,7 @@ fn train(
     data: &TrainData,
     options: &TrainOptions,
 ) -> xylem::nca::train::session::TrainOutcome {
-    let kind = DeviceKind::Flex;
-    let loss = MomentLoss::new(&data.targets, &kind.device());
-    let dir = OutputDir::prepare(out).unwrap();
-    run_training(&dir, cfg, "test", data, kind, &loss, options, &mut |_| {}).unwrap()
+    common::train_with_moments(out, cfg, "test", data, options).unwrap()
 }
 
 #[test]
@@ -233,21 +229,9 @@ fn resume_continues_exactly_like_an_uninterrupted_run() {
         "the second layer was trained"
     );
     // Without --resume an existing run is not overwritten.
-    let kind = DeviceKind::Flex;
-    let loss = MomentLoss::new(&data.targets, &kind.device());
-    let out = OutputDir::prepare(&resumed).unwrap();
-    let err = run_training(
-        &out,
-        &cfg,
-        "t",
-        &data,
-        kind,
-        &loss,
-        &TrainOptions::default(),
-        &mut |_| {},
-    )
-    .unwrap_err()
-    .to_string();
+    let err = common::train_with_moments(&resumed, &cfg, "t", &data, &TrainOptions::default())
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("`resume`"), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }

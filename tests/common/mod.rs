@@ -194,6 +194,31 @@ pub fn run_python(python: &std::path::Path, script: &str, args: &[&str]) -> Stri
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
+/// Trains on `data` with the moment loss on the flex CPU device into the folder `out`
+/// (prepared as an output folder), silently; `config_source` is what the model records as
+/// its config's origin.
+pub fn train_with_moments(
+    out: &Path,
+    cfg: &xylem::nca::TrainConfig,
+    config_source: &str,
+    data: &xylem::nca::train::TrainData,
+    options: &xylem::nca::train::session::TrainOptions,
+) -> xylem::Result<xylem::nca::train::session::TrainOutcome> {
+    let kind = xylem::device::DeviceKind::Flex;
+    let loss = xylem::nca::MomentLoss::new(&data.targets, &kind.device());
+    let dir = xylem::io::OutputDir::prepare(out)?;
+    xylem::nca::train::session::run_training(
+        &dir,
+        cfg,
+        config_source,
+        data,
+        kind,
+        &loss,
+        options,
+        &mut |_| {},
+    )
+}
+
 /// The largest absolute value of a list (0 for an empty one).
 pub fn max_abs(values: &[f32]) -> f32 {
     values.iter().map(|v| v.abs()).fold(0.0f32, f32::max)

@@ -308,26 +308,14 @@ pub fn tiny_data(sample_dir: &Path, cfg: &xylem::nca::TrainConfig) -> xylem::nca
 /// Trains the tiny config (8^3 grid, two iterations, the moment loss) on a fresh 16 px
 /// sample `dir/sample` into `dir/model` (with its checkpoint); about a second.
 pub fn tiny_model(dir: &Path) -> (PathBuf, xylem::nca::TrainConfig) {
-    use xylem::device::DeviceKind;
-    use xylem::nca::train::session::{TrainOptions, run_training};
+    use xylem::nca::train::session::TrainOptions;
     let sample_dir = dir.join("sample");
     write_tiny_sample(&sample_dir, 16);
     let cfg = xylem::nca::TrainConfig::parse(TINY_NCA, Path::new("<tiny>")).expect("tiny config");
     let data = tiny_data(&sample_dir, &cfg);
-    let kind = DeviceKind::Flex;
-    let loss = xylem::nca::MomentLoss::new(&data.targets, &kind.device());
-    let out = xylem::io::OutputDir::prepare(&dir.join("model")).expect("model folder");
-    run_training(
-        &out,
-        &cfg,
-        "tiny",
-        &data,
-        kind,
-        &loss,
-        &TrainOptions::default(),
-        &mut |_| {},
-    )
-    .expect("tiny training");
+    let model = dir.join("model");
+    crate::common::train_with_moments(&model, &cfg, "tiny", &data, &TrainOptions::default())
+        .expect("tiny training");
     (sample_dir, cfg)
 }
 
