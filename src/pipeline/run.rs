@@ -126,24 +126,37 @@ fn skip_if_done(dir: &Path, stage: &str, reporter: &dyn Reporter) -> bool {
     done
 }
 
+/// Runs the stage `stage` into `dir` by `work` unless it is done, then marks it done;
+/// returns whether it was skipped. (Training decides when it is done itself.)
+fn unless_done(
+    dir: &Path,
+    stage: &str,
+    reporter: &dyn Reporter,
+    work: impl FnOnce() -> Result<()>,
+) -> Result<bool> {
+    if skip_if_done(dir, stage, reporter) {
+        return Ok(true);
+    }
+    reporter.note(&format!("== {stage}"));
+    work()?;
+    mark_done(dir)?;
+    Ok(false)
+}
+
 /// Runs the fit unless it is done; returns whether it was skipped (as for the other
 /// reusable stages).
 fn fit_step(layout: &RunLayout, options: &RunOptions, reporter: &dyn Reporter) -> Result<bool> {
     let dir = layout.fit_dir();
-    if skip_if_done(&dir, "fit", reporter) {
-        return Ok(true);
-    }
-    reporter.note("== fit");
-    let config = FitConfig::load_or_default(options.fit_config.as_deref())?;
-    let fit = FitOptions {
-        sample: &options.sample,
-        faces: &options.faces,
-        config: &config,
-        rings: options.rings,
-    };
-    fit_into(&fit, &dir, reporter)?;
-    mark_done(&dir)?;
-    Ok(false)
+    unless_done(&dir, "fit", reporter, || {
+        let config = FitConfig::load_or_default(options.fit_config.as_deref())?;
+        let fit = FitOptions {
+            sample: &options.sample,
+            faces: &options.faces,
+            config: &config,
+            rings: options.rings,
+        };
+        fit_into(&fit, &dir, reporter).map(drop)
+    })
 }
 
 fn train_step(layout: &RunLayout, options: &RunOptions, reporter: &dyn Reporter) -> Result<bool> {
@@ -197,18 +210,14 @@ fn nca_config_file(layout: &RunLayout, nca: &NcaSource) -> Result<PathBuf> {
 
 fn synth_step(layout: &RunLayout, options: &RunOptions, reporter: &dyn Reporter) -> Result<bool> {
     let dir = layout.synth_dir();
-    if skip_if_done(&dir, "synth", reporter) {
-        return Ok(true);
-    }
-    reporter.note("== synth");
-    let synth = SynthStageOptions {
-        size: None,
-        steps: options.synth_steps,
-        seed: None,
-        device: options.device,
-        engine: options.engine,
-    };
-    synth_into(&layout.train_dir(), &synth, &dir, reporter)?;
-    mark_done(&dir)?;
-    Ok(false)
+    unless_done(&dir, "synth", reporter, || {
+        let synth = SynthStageOptions {
+            size: None,
+            steps: options.synth_steps,
+            seed: None,
+            device: options.device,
+            engine: options.engine,
+        };
+        synth_into(&layout.train_dir(), &synth, &dir, reporter)
+    })
 }
