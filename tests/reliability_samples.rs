@@ -94,6 +94,13 @@ fn save(img: &Image2, path: &Path) {
     save_png(img, path).unwrap();
 }
 
+/// All six photos of `dir`, `side` x `side`.
+fn square_photos(dir: &Path, side: usize) {
+    for f in Face::ALL {
+        save(&photo(side, side), &dir.join(format!("{f}_col.png")));
+    }
+}
+
 fn has_mkfifo() -> bool {
     std::process::Command::new("mkfifo")
         .arg("--version")
@@ -165,20 +172,12 @@ fn damaged_sample_folders_give_clear_errors() {
         ),
         row(
             "8x8 photos",
-            |d| {
-                for f in Face::ALL {
-                    save(&photo(8, 8), &d.join(format!("{f}_col.png")));
-                }
-            },
+            |d| square_photos(d, 8),
             error(&["A_col.png", "is 8x8", "at least 16x16"]),
         ),
         row(
             "1x1 photos",
-            |d| {
-                for f in Face::ALL {
-                    save(&photo(1, 1), &d.join(format!("{f}_col.png")));
-                }
-            },
+            |d| square_photos(d, 1),
             error(&["A_col.png", "is 1x1", "at least 16x16"]),
         ),
         row(
@@ -413,9 +412,7 @@ fn commands_refuse_damaged_samples_before_working() {
     save(&flat(16, [0.0, 0.0, 0.0]), &black.join("D_col.png"));
     let tiny = dir.join("tiny");
     copy_dir(&good, &tiny);
-    for f in Face::ALL {
-        save(&photo(1, 1), &tiny.join(format!("{f}_col.png")));
-    }
+    square_photos(&tiny, 1);
     let stray = dir.join("stray");
     copy_dir(&good, &stray);
     let spots: Vec<(usize, usize, u8)> = (0..12).map(|i| (i, 15 - i, 90 + 3 * i as u8)).collect();
