@@ -4,8 +4,8 @@
 
 use glam::{DMat3, DVec3};
 
-/// Eigenvalues and eigenvectors (columns) of a symmetric 3x3 matrix by cyclic Jacobi
-/// rotations.
+/// Eigenvalues in ascending order and their eigenvectors (columns, in the same order) of a
+/// symmetric 3x3 matrix by cyclic Jacobi rotations.
 pub fn symmetric_eigen(m: &DMat3) -> ([f64; 3], DMat3) {
     let mut a = m.to_cols_array_2d(); // a[col][row], symmetric so the same as [row][col]
     let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
@@ -24,10 +24,13 @@ pub fn symmetric_eigen(m: &DMat3) -> ([f64; 3], DMat3) {
             rotate(&mut a, &mut v, p, q, c, t * c);
         }
     }
+    let values = [a[0][0], a[1][1], a[2][2]];
+    let mut order = [0, 1, 2];
+    order.sort_by(|&i, &j| values[i].total_cmp(&values[j]));
     let column = |j: usize| DVec3::new(v[0][j], v[1][j], v[2][j]);
     (
-        [a[0][0], a[1][1], a[2][2]],
-        DMat3::from_cols(column(0), column(1), column(2)),
+        order.map(|j| values[j]),
+        DMat3::from_cols(column(order[0]), column(order[1]), column(order[2])),
     )
 }
 
@@ -53,15 +56,16 @@ mod tests {
     use super::*;
 
     #[test]
-    fn jacobi_gives_back_a_rotated_diagonal() {
+    fn jacobi_gives_back_a_rotated_diagonal_in_ascending_order() {
         // R diag(3, 1, 0.2) R^T with R a rotation: eigenvalues 3, 1, 0.2 on R's columns.
         let r = DMat3::from_axis_angle(DVec3::new(1.0, 2.0, 0.5).normalize(), 0.7);
         let m = r * DMat3::from_diagonal(DVec3::new(3.0, 1.0, 0.2)) * r.transpose();
         let (values, vectors) = symmetric_eigen(&m);
-        for (want, axis) in [(3.0, r.x_axis), (1.0, r.y_axis), (0.2, r.z_axis)] {
-            let j = (0..3)
-                .find(|&j| (values[j] - want).abs() < 1e-9)
-                .unwrap_or_else(|| panic!("{want} not among {values:?}"));
+        for (j, (want, axis)) in [(0.2, r.z_axis), (1.0, r.y_axis), (3.0, r.x_axis)]
+            .into_iter()
+            .enumerate()
+        {
+            assert!((values[j] - want).abs() < 1e-9, "{values:?}: ascending");
             assert!(vectors.col(j).dot(axis).abs() > 1.0 - 1e-9, "{want}");
         }
     }

@@ -209,11 +209,11 @@ fn weighted_tensor(grains: &[FaceGrain], axis: DVec3) -> DMat3 {
 /// The unit eigenvector of the smallest eigenvalue of a symmetric 3x3 matrix, with the
 /// smallest and the middle eigenvalue (clamped at 0).
 fn smallest_direction(m: &DMat3) -> (DVec3, [f64; 2]) {
-    let (values, vectors) = symmetric_eigen(m);
-    let mut order = [0, 1, 2];
-    order.sort_by(|&a, &b| values[a].total_cmp(&values[b]));
-    let (low, mid) = (values[order[0]].max(0.0), values[order[1]].max(0.0));
-    (vectors.col(order[0]).normalize(), [low, mid])
+    let (values, vectors) = symmetric_eigen(m); // ascending
+    (
+        vectors.col(0).normalize(),
+        [values[0].max(0.0), values[1].max(0.0)],
+    )
 }
 
 #[cfg(test)]

@@ -47,16 +47,10 @@ pub fn fine_texture_axes(targets: &[Option<Image2>]) -> ([f64; 3], DMat3) {
     }
     let n = count.max(1) as f64;
     let covariance = DMat3::from_cols_array_2d(&moments.map(|row| row.map(|m| m / n)));
-    let (values, vectors) = symmetric_eigen(&covariance);
-    let mut order = [0, 1, 2];
-    order.sort_by(|&a, &b| values[b].total_cmp(&values[a]));
+    let (values, vectors) = symmetric_eigen(&covariance); // ascending
     (
-        order.map(|j| values[j]),
-        DMat3::from_cols(
-            vectors.col(order[0]),
-            vectors.col(order[1]),
-            vectors.col(order[2]),
-        ),
+        [values[2], values[1], values[0]],
+        DMat3::from_cols(vectors.col(2), vectors.col(1), vectors.col(0)),
     )
 }
 

@@ -28,7 +28,7 @@ use crate::error::Result;
 use crate::frame::Face;
 use crate::image2::Image2;
 use crate::nca::checkpoint::{Objective, UnrollGradients, unroll_gradients};
-use crate::nca::colour_axes::{colour_projection, project_tensor};
+use crate::nca::colour_axes::colour_projection;
 use crate::nca::conditioning::{Conditioning, Normalisation};
 use crate::nca::config::{Engine, TargetColour, TrainConfig};
 use crate::nca::faces::{FacePatch, face_patches, inner_patches, layout};
@@ -107,10 +107,10 @@ struct RegionInputs {
     colour: Tensor<4>,
     /// Ring-phase guide over the region, `[2, X, Y, Z]` (planes inside the crop).
     guide: Tensor<4>,
-    /// The colour readout and the photo -> white-balanced factor it needs.
-    readout: (Readout, [f32; 3]),
-    /// The projection of the state's RGB onto the colour axes (`Normalisation`).
-    colour_projection: Option<[[f32; 3]; 3]>,
+    /// The colour readout.
+    readout: Readout,
+    /// The white balance and colour projection the readout and the residual need.
+    normalisation: Normalisation,
 }
 
 /// What an iteration starts from.
@@ -355,8 +355,8 @@ fn region_inputs(
         step,
         faces,
         colour,
-        readout: (cfg.model.readout, data.normalisation.white_balance),
-        colour_projection: data.normalisation.colour_projection,
+        readout: cfg.model.readout,
+        normalisation: data.normalisation.clone(),
         guide,
     })
 }
@@ -409,13 +409,13 @@ fn objective(
     depths: &[usize],
     overflow_weight: f32,
 ) -> Objective {
-    let (readout, white_balance) = inputs.readout;
-    let mut residual = state.clone().narrow(0, 0, 3); // [3, X, Y, Z]
-    if let Some(p) = &inputs.colour_projection {
-        residual = project_tensor(residual, p, &state.device());
-    }
+    let device = state.device();
+    let norm = &inputs.normalisation;
+    let residual = norm.residual_tensor(state.clone().narrow(0, 0, 3), &device); // [3, X, Y, Z]
     let sum = residual + inputs.colour.clone(); // [3, X, Y, Z]
-    let rgb = readout.white_balanced(sum, white_balance, &state.device());
+    let rgb = inputs
+        .readout
+        .white_balanced(sum, norm.white_balance, &device);
     let mut faces: Vec<FacePatch> = face_patches(&rgb, &inputs.region, &inputs.faces);
     for &depth in depths {
         faces.extend(inner_patches(
