@@ -12,7 +12,7 @@ use crate::io::write_bytes_atomic;
 
 /// Reads and parses a TOML file into `T`. Parse errors (syntax, unknown key, wrong type)
 /// carry the parser's message, which names the key and the line.
-pub fn load_toml<T: DeserializeOwned + Serialize>(path: &Path) -> Result<T> {
+pub(crate) fn load_toml<T: DeserializeOwned + Serialize>(path: &Path) -> Result<T> {
     let text = crate::io::read_text(path, "a TOML file")?;
     parse_toml(&text, path)
 }
@@ -70,7 +70,7 @@ fn array_length_mismatch(
 }
 
 /// Reads, parses and validates a config file: `validate` gets a checker naming `path`.
-pub fn load_checked<T: DeserializeOwned + Serialize>(
+pub(crate) fn load_checked<T: DeserializeOwned + Serialize>(
     path: &Path,
     validate: impl FnOnce(&T, &Checker) -> Result<()>,
 ) -> Result<T> {
@@ -80,7 +80,7 @@ pub fn load_checked<T: DeserializeOwned + Serialize>(
 }
 
 /// Parses and validates TOML text; `origin` names the source in error messages.
-pub fn parse_checked<T: DeserializeOwned + Serialize>(
+pub(crate) fn parse_checked<T: DeserializeOwned + Serialize>(
     text: &str,
     origin: &Path,
     validate: impl FnOnce(&T, &Checker) -> Result<()>,
@@ -180,40 +180,37 @@ impl Checker {
         }
     }
 
-    /// `value` must be finite and within [lo, hi].
-    pub fn range(&self, key: &str, value: f32, lo: f32, hi: f32, meaning: &str) -> Result<()> {
-        if value.is_finite() && value >= lo && value <= hi {
+    /// `Ok` when `ok`, else the error about `key` that `message` words (built only on failure).
+    fn require(&self, ok: bool, key: &str, message: impl FnOnce() -> String) -> Result<()> {
+        if ok {
             Ok(())
         } else {
-            Err(self.error(
-                key,
-                format!("= {value}: expected {meaning} in [{lo}, {hi}]"),
-            ))
+            Err(self.error(key, message()))
         }
+    }
+
+    /// `value` must be finite and within [lo, hi].
+    pub fn range(&self, key: &str, value: f32, lo: f32, hi: f32, meaning: &str) -> Result<()> {
+        let ok = value.is_finite() && value >= lo && value <= hi;
+        self.require(ok, key, || {
+            format!("= {value}: expected {meaning} in [{lo}, {hi}]")
+        })
     }
 
     /// `value` must be finite and > 0 (and at most `hi`).
     pub fn positive(&self, key: &str, value: f32, hi: f32, meaning: &str) -> Result<()> {
-        if value.is_finite() && value > 0.0 && value <= hi {
-            Ok(())
-        } else {
-            Err(self.error(
-                key,
-                format!("= {value}: expected {meaning}, a number > 0 and <= {hi}"),
-            ))
-        }
+        let ok = value.is_finite() && value > 0.0 && value <= hi;
+        self.require(ok, key, || {
+            format!("= {value}: expected {meaning}, a number > 0 and <= {hi}")
+        })
     }
 
     /// All components finite and within [-bound, bound].
     pub fn vector(&self, key: &str, v: [f32; 3], bound: f32, meaning: &str) -> Result<()> {
-        if v.iter().all(|x| x.is_finite() && x.abs() <= bound) {
-            Ok(())
-        } else {
-            Err(self.error(
-                key,
-                format!("= {v:?}: expected {meaning}, three finite numbers within +-{bound}"),
-            ))
-        }
+        let ok = v.iter().all(|x| x.is_finite() && x.abs() <= bound);
+        self.require(ok, key, || {
+            format!("= {v:?}: expected {meaning}, three finite numbers within +-{bound}")
+        })
     }
 
     /// A direction: finite, not (nearly) zero.
@@ -221,24 +218,23 @@ impl Checker {
         // Bounded components: the squared length of [1e30, 1e30, 0] overflows f32 and the
         // direction would silently become another one.
         let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-        if v.iter().all(|x| x.is_finite() && x.abs() <= 1e6) && len > 1e-6 {
-            Ok(())
-        } else {
-            Err(self.error(
-                key,
-                format!("= {v:?}: expected a direction [x, y, z], components within +-1e6, not zero (need not be normalised)"),
-            ))
-        }
+        let ok = v.iter().all(|x| x.is_finite() && x.abs() <= 1e6) && len > 1e-6;
+        self.require(ok, key, || {
+            format!("= {v:?}: expected a direction [x, y, z], components within +-1e6, not zero (need not be normalised)")
+        })
     }
 
     /// A list of `n` entries, `lo` to `hi`; its error reads "has {n} {what}", so `what` names the
     /// entries and the limits (e.g. "values; expected 1 to 64 distances").
-    pub fn list_length(&self, key: &str, n: usize, lo: usize, hi: usize, what: &str) -> Result<()> {
-        if (lo..=hi).contains(&n) {
-            Ok(())
-        } else {
-            Err(self.error(key, format!("has {n} {what}")))
-        }
+    pub(crate) fn list_length(
+        &self,
+        key: &str,
+        n: usize,
+        lo: usize,
+        hi: usize,
+        what: &str,
+    ) -> Result<()> {
+        self.require((lo..=hi).contains(&n), key, || format!("has {n} {what}"))
     }
 
     /// An integer count within [lo, hi].
@@ -250,13 +246,8 @@ impl Checker {
         hi: usize,
         meaning: &str,
     ) -> Result<()> {
-        if (lo..=hi).contains(&value) {
-            Ok(())
-        } else {
-            Err(self.error(
-                key,
-                format!("= {value}: expected {meaning}, an integer in [{lo}, {hi}]"),
-            ))
-        }
+        self.require((lo..=hi).contains(&value), key, || {
+            format!("= {value}: expected {meaning}, an integer in [{lo}, {hi}]")
+        })
     }
 }

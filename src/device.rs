@@ -30,7 +30,7 @@ impl DeviceKind {
     }
 
     /// The burn device with autodiff enabled.
-    pub fn autodiff_device(self) -> Device {
+    pub(crate) fn autodiff_device(self) -> Device {
         self.device().autodiff()
     }
 

@@ -127,7 +127,7 @@ impl SettingStyle {
 
     /// `what` (the input an error is about) with a leading `$name ` written in this style and
     /// the rest, which may be a user's path or value, left exactly as given.
-    pub fn apply_lead(self, what: &str) -> String {
+    pub(crate) fn apply_lead(self, what: &str) -> String {
         for name in SETTINGS {
             if let Some(rest) = what.strip_prefix(&format!("${name}"))
                 && (rest.is_empty() || rest.starts_with(' '))

@@ -116,7 +116,7 @@ impl Image2 {
     }
 
     /// The image with `channels` channels: grey is repeated, extra channels are dropped.
-    pub fn with_channels(&self, channels: usize) -> Image2 {
+    pub(crate) fn with_channels(&self, channels: usize) -> Image2 {
         if channels == self.channels {
             return self.clone();
         }
@@ -139,7 +139,7 @@ impl Image2 {
 
     /// Copies `src` into this image with its top-left corner at (row, col); both must have the
     /// same channel count. Parts falling outside are clipped.
-    pub fn blit(&mut self, src: &Image2, row: usize, col: usize) {
+    pub(crate) fn blit(&mut self, src: &Image2, row: usize, col: usize) {
         assert_eq!(
             self.channels, src.channels,
             "blit needs equal channel counts"
@@ -237,42 +237,7 @@ impl Image2 {
     pub fn white_balanced(&self) -> Image2 {
         self.balanced(&self.channel_means())
     }
-
-    /// The image resampled to `width` x `height`: each output pixel averages the input pixels
-    /// its footprint covers (a box filter, so downscaling does not alias; upscaling repeats
-    /// pixels).
-    pub fn resized(&self, width: usize, height: usize) -> Image2 {
-        let mut out = Image2::filled(width, height, self.channels, 0.0);
-        let (sx, sy) = (
-            self.width as f32 / width as f32,
-            self.height as f32 / height as f32,
-        );
-        for r in 0..height {
-            let (r0, r1) = span(r, sy, self.height);
-            for c in 0..width {
-                let (c0, c1) = span(c, sx, self.width);
-                let n = ((r1 - r0) * (c1 - c0)) as f32;
-                let dst = out.offset(r, c);
-                for rr in r0..r1 {
-                    for cc in c0..c1 {
-                        let src = self.offset(rr, cc);
-                        for ch in 0..self.channels {
-                            out.data[dst + ch] += self.data[src + ch] / n;
-                        }
-                    }
-                }
-            }
-        }
-        out
-    }
 }
 
 /// Smallest channel mean a white balance divides by.
 pub const MIN_BALANCE_MEAN: f32 = 1e-3;
-
-/// Input index range covered by output index `i` at `scale` input pixels per output pixel.
-fn span(i: usize, scale: f32, len: usize) -> (usize, usize) {
-    let lo = ((i as f32 * scale).floor() as usize).min(len - 1);
-    let hi = (((i + 1) as f32 * scale).ceil() as usize).clamp(lo + 1, len);
-    (lo, hi)
-}

@@ -16,7 +16,7 @@ fn kernel(sigma: f32) -> Vec<f32> {
 }
 
 /// Gaussian blur of channel 0 of `img` (returned as one channel); `sigma <= 0` copies.
-pub fn gaussian_blur(img: &Image2, sigma: f32) -> Image2 {
+pub(crate) fn gaussian_blur(img: &Image2, sigma: f32) -> Image2 {
     let src = img.channel(0);
     if sigma <= 0.0 {
         return src;
@@ -29,7 +29,7 @@ pub fn gaussian_blur(img: &Image2, sigma: f32) -> Image2 {
 /// Gaussian of `sigma` px, by derivative-of-Gaussian kernels. Unlike central differences of a
 /// blurred image this has no direction bias near the pixel scale (central differences tilt
 /// fine dashes 2-4 degrees towards the diagonals).
-pub fn gaussian_gradient(img: &Image2, sigma: f32) -> [Image2; 2] {
+pub(crate) fn gaussian_gradient(img: &Image2, sigma: f32) -> [Image2; 2] {
     let src = img.channel(0);
     let k = kernel(sigma.max(0.3));
     let r = (k.len() / 2) as f32;
@@ -82,7 +82,7 @@ fn correlate_lines(data: &[f32], w: usize, h: usize, kernel: &[f32], along_x: bo
 
 /// `img`'s channel 0 minus its Gaussian blur of `sigma` px: the fine texture (pores, fibre
 /// streaks) without the ring-scale shading.
-pub fn high_pass(img: &Image2, sigma: f32) -> Image2 {
+pub(crate) fn high_pass(img: &Image2, sigma: f32) -> Image2 {
     let low = gaussian_blur(img, sigma);
     let mut fine = img.channel(0);
     for (v, l) in fine.data.iter_mut().zip(&low.data) {
@@ -93,7 +93,7 @@ pub fn high_pass(img: &Image2, sigma: f32) -> Image2 {
 
 /// The structure tensor (Jxx, Jxy, Jyy) of a one-channel image: central differences of the
 /// image blurred by `pre_sigma`, products blurred by `tensor_sigma` (both in pixels).
-pub fn structure_tensor(img: &Image2, pre_sigma: f32, tensor_sigma: f32) -> [Image2; 3] {
+pub(crate) fn structure_tensor(img: &Image2, pre_sigma: f32, tensor_sigma: f32) -> [Image2; 3] {
     let lum = gaussian_blur(img, pre_sigma);
     let (w, h) = (lum.width, lum.height);
     let at = |x: usize, y: usize| lum.data[y * w + x];

@@ -79,7 +79,8 @@
 //!   localisation image I(G), fitted ring positions and the base colour bar over G.
 //! - [`fit`]: fitting the growth field and base colour to a sample's six faces (`xylem fit`).
 //! - [`slice`]: sampling any solid texture on faces, cuts and planes; the unfolded cross.
-//! - [`image2`]: the float image type slices are returned in.
+//! - [`image2`]: the float image type slices are returned in (resampled by the private
+//!   `resample` module: one area/bilinear implementation for every caller).
 //! - [`outputs`]: the standard set of faces, cuts and unfolded cross written for a texture.
 //! - [`render`]: lit renders of any solid texture on the cube or on a carved mesh.
 //! - [`report`]: comparison sheets, captioned render rows and the HTML report of a run.
@@ -100,6 +101,8 @@
 //! - [`pipeline`]: the stages of `xylem run` (fit, train, synth, sheet, renders, metrics,
 //!   report) and the demo as library functions on a run folder, resumable.
 
+#![warn(unreachable_pub)]
+
 pub mod config;
 pub mod device;
 pub mod error;
@@ -108,7 +111,7 @@ pub mod field;
 pub mod fit;
 pub mod frame;
 pub mod image2;
-pub mod image_filter;
+pub(crate) mod image_filter;
 pub mod io;
 pub mod loss;
 pub mod memory;
@@ -120,12 +123,13 @@ pub mod presets;
 pub mod procedural;
 pub mod render;
 pub mod report;
+mod resample;
 pub mod rings;
 pub mod rng;
 pub mod run_folder;
 pub mod sample;
 pub mod slice;
-pub mod symmetric_eigen;
+pub(crate) mod symmetric_eigen;
 pub mod texture;
 pub mod volume;
 

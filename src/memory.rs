@@ -20,17 +20,17 @@ const GB: f64 = 1024.0 * 1024.0 * 1024.0;
 
 /// Estimated peak bytes of training on `crop`^3 crops with `tape_steps` steps recorded
 /// at once (the whole unroll, or one segment).
-pub fn training_bytes(crop: usize, tape_steps: usize) -> f64 {
+pub(crate) fn training_bytes(crop: usize, tape_steps: usize) -> f64 {
     (crop as f64).powi(3) * tape_steps as f64 * TRAIN_BYTES_PER_VOXEL_STEP
 }
 
 /// Estimated peak bytes of synthesising a `size`^3 volume.
-pub fn synthesis_bytes(size: usize) -> f64 {
+pub(crate) fn synthesis_bytes(size: usize) -> f64 {
     (size as f64).powi(3) * SYNTH_BYTES_PER_VOXEL
 }
 
 /// Total memory of this machine (Linux `/proc/meminfo`), if readable.
-pub fn machine_bytes() -> Option<f64> {
+pub(crate) fn machine_bytes() -> Option<f64> {
     let text = std::fs::read_to_string("/proc/meminfo").ok()?;
     let line = text.lines().find(|l| l.starts_with("MemTotal:"))?;
     let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
@@ -39,7 +39,7 @@ pub fn machine_bytes() -> Option<f64> {
 
 /// Fails when `needed` bytes exceed the share of this machine's memory a job may use,
 /// naming `what`, the estimate, the machine's memory and `lower` (how to ask for less).
-pub fn check_fits(what: &str, needed: f64, lower: &str) -> Result<()> {
+pub(crate) fn check_fits(what: &str, needed: f64, lower: &str) -> Result<()> {
     let total = machine_bytes().unwrap_or(FALLBACK_BYTES);
     if needed <= BUDGET_SHARE * total {
         return Ok(());

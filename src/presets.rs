@@ -57,7 +57,7 @@ fn unknown(kind: &str, name: &str, presets: &[(&'static str, &'static str)]) -> 
 }
 
 /// The TOML text of a field preset.
-pub fn field_preset(name: &str) -> Option<&'static str> {
+pub(crate) fn field_preset(name: &str) -> Option<&'static str> {
     find(FIELD_PRESETS, name)
 }
 

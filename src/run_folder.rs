@@ -5,29 +5,29 @@
 use std::path::{Path, PathBuf};
 
 /// The fit stage's folder (`xylem fit` output).
-pub const FIT_DIR: &str = "fit";
+pub(crate) const FIT_DIR: &str = "fit";
 /// The training stage's folder (`xylem train` output).
-pub const TRAIN_DIR: &str = "train";
+pub(crate) const TRAIN_DIR: &str = "train";
 /// The synthesis stage's folder (`xylem synth` output).
-pub const SYNTH_DIR: &str = "synth";
+pub(crate) const SYNTH_DIR: &str = "synth";
 /// The stage folders whose results a re-run reuses, in pipeline order.
-pub const STAGE_DIRS: [&str; 3] = [FIT_DIR, TRAIN_DIR, SYNTH_DIR];
+pub(crate) const STAGE_DIRS: [&str; 3] = [FIT_DIR, TRAIN_DIR, SYNTH_DIR];
 /// What the run folder was made with, compared on every re-run.
-pub const RUN_RECORD: &str = "run.toml";
+pub(crate) const RUN_RECORD: &str = "run.toml";
 /// Written into a stage folder after its last output: the stage is complete.
-pub const DONE_MARKER: &str = ".done";
+pub(crate) const DONE_MARKER: &str = ".done";
 /// The comparison sheet (rows: faces and cuts; columns: reference and methods).
-pub const SHEET_PNG: &str = "sheet.png";
+pub(crate) const SHEET_PNG: &str = "sheet.png";
 /// Reference faces and the NCA's, unfolded side by side.
-pub const UNFOLDED_PNG: &str = "unfolded.png";
+pub(crate) const UNFOLDED_PNG: &str = "unfolded.png";
 /// The metrics table of every method against every fair reference.
-pub const METRICS_CSV: &str = "metrics.csv";
+pub(crate) const METRICS_CSV: &str = "metrics.csv";
 /// Pore density by ring phase.
-pub const PHASE_CSV: &str = "phase.csv";
+pub(crate) const PHASE_CSV: &str = "phase.csv";
 /// Wall time and peak memory of each stage.
 pub const TIMINGS_CSV: &str = "timings.csv";
 /// The report page.
-pub const REPORT_PAGE: &str = "report/index.html";
+pub(crate) const REPORT_PAGE: &str = "report/index.html";
 
 /// Paths inside one run folder.
 #[derive(Clone, Debug)]
@@ -50,11 +50,11 @@ impl RunLayout {
     }
 
     /// The synthetic sample `xylem demo` writes (and runs on).
-    pub fn demo_sample(&self) -> PathBuf {
+    pub(crate) fn demo_sample(&self) -> PathBuf {
         self.path("sample")
     }
 
-    pub fn fit_dir(&self) -> PathBuf {
+    pub(crate) fn fit_dir(&self) -> PathBuf {
         self.path(FIT_DIR)
     }
 
@@ -63,11 +63,11 @@ impl RunLayout {
         self.fit_dir().join("fit.toml")
     }
 
-    pub fn train_dir(&self) -> PathBuf {
+    pub(crate) fn train_dir(&self) -> PathBuf {
         self.path(TRAIN_DIR)
     }
 
-    pub fn synth_dir(&self) -> PathBuf {
+    pub(crate) fn synth_dir(&self) -> PathBuf {
         self.path(SYNTH_DIR)
     }
 
@@ -77,7 +77,7 @@ impl RunLayout {
     }
 
     /// The copy of a built-in NCA config the training was given.
-    pub fn preset_copy(&self, preset: &str) -> PathBuf {
+    pub(crate) fn preset_copy(&self, preset: &str) -> PathBuf {
         self.path(format!("nca_{preset}.toml"))
     }
 

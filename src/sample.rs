@@ -149,7 +149,7 @@ impl Sample {
 
     /// Loads the face's given ring image (`X_arl-unet.png`, else `X_arl.png`) if the folder
     /// has one; false if it has none. A file of the wrong size is an error naming it.
-    pub fn load_ring_image(&mut self, face: Face) -> Result<bool> {
+    pub(crate) fn load_ring_image(&mut self, face: Face) -> Result<bool> {
         let Some(path) = given_ring_path(&self.dir, face) else {
             return Ok(false);
         };
@@ -199,7 +199,7 @@ fn require(path: &Path, load: fn(&Path) -> Result<Image2>) -> Result<Image2> {
 
 /// `X_arl-unet.png` if present (real data), else `X_arl.png` (synthetic samples and
 /// `xylem rings` output), else none.
-pub fn given_ring_path(dir: &Path, face: Face) -> Option<PathBuf> {
+pub(crate) fn given_ring_path(dir: &Path, face: Face) -> Option<PathBuf> {
     [format!("{face}_arl-unet.png"), format!("{face}_arl.png")]
         .into_iter()
         .map(|name| dir.join(name))

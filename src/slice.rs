@@ -41,7 +41,7 @@ pub fn slice_face(texture: &dyn SolidTexture, face: Face, n: usize) -> Image2 {
 }
 
 /// All six faces in file order A..F.
-pub fn slice_faces(texture: &dyn SolidTexture, n: usize) -> [Image2; 6] {
+pub(crate) fn slice_faces(texture: &dyn SolidTexture, n: usize) -> [Image2; 6] {
     Face::ALL.map(|f| slice_face(texture, f, n))
 }
 

@@ -6,7 +6,7 @@ use glam::{DMat3, DVec3};
 
 /// Eigenvalues in ascending order and their eigenvectors (columns, in the same order) of a
 /// symmetric 3x3 matrix by cyclic Jacobi rotations.
-pub fn symmetric_eigen(m: &DMat3) -> ([f64; 3], DMat3) {
+pub(crate) fn symmetric_eigen(m: &DMat3) -> ([f64; 3], DMat3) {
     let mut a = m.to_cols_array_2d(); // a[col][row], symmetric so the same as [row][col]
     let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     for _ in 0..50 {

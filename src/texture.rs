@@ -83,7 +83,7 @@ pub fn with_values<R>(texture: &dyn SolidTexture, p: Vec3, f: impl FnOnce(&[f32]
 }
 
 /// [`with_values`] for the values seen on a surface with unit normal `normal`.
-pub fn with_surface_values<R>(
+pub(crate) fn with_surface_values<R>(
     texture: &dyn SolidTexture,
     p: Vec3,
     normal: Vec3,
@@ -109,6 +109,6 @@ fn with_scratch<R>(n: usize, fill: impl FnOnce(&mut [f32]), f: impl FnOnce(&[f32
 }
 
 /// The first channel of `texture` at `p`.
-pub fn first_channel(texture: &dyn SolidTexture, p: Vec3) -> f32 {
+pub(crate) fn first_channel(texture: &dyn SolidTexture, p: Vec3) -> f32 {
     with_values(texture, p, |v| v[0])
 }

@@ -45,15 +45,29 @@ fn write_nrrd(name: &str) -> (common::Scratch, std::path::PathBuf) {
     (dir, path)
 }
 
-/// What a reader's `script` prints for the volume at `path`, given the probe voxel's indices
-/// as its arguments 2 to 4.
-fn read_at_probe(python: &std::path::Path, script: &str, path: &std::path::Path) -> String {
+/// A Python with the reader `module` (None: skip the test) and the index-colour volume
+/// exported as NRRD into the scratch folder `name` (kept while the guard lives).
+fn nrrd_and_reader(
+    module: &str,
+    name: &str,
+) -> Option<(std::path::PathBuf, common::Scratch, std::path::PathBuf)> {
+    let python = common::python_with(module)?;
+    let (dir, path) = write_nrrd(name);
+    Some((python, dir, path))
+}
+
+/// The lines a reader's `script` prints for the volume at `path`, given the probe voxel's
+/// indices as its arguments 2 to 4.
+fn read_at_probe(python: &std::path::Path, script: &str, path: &std::path::Path) -> Vec<String> {
     let p = PROBE.map(|v| v.to_string());
     common::run_python(
         python,
         script,
         &[path.to_str().unwrap(), &p[0], &p[1], &p[2]],
     )
+    .lines()
+    .map(str::to_string)
+    .collect()
 }
 
 fn floats(line: &str) -> Vec<f32> {
@@ -71,10 +85,9 @@ fn assert_close(got: &[f32], want: &[f32], tol: f32, what: &str) {
 
 #[test]
 fn nrrd_opens_in_vtk_with_x_fastest_and_rgb_components() {
-    let Some(python) = common::python_with("vtk") else {
+    let Some((python, _dir, path)) = nrrd_and_reader("vtk", "nrrd-vtk") else {
         return;
     };
-    let (dir, path) = write_nrrd("nrrd-vtk");
     let script = r#"
 import sys
 # The plain reader ParaView uses; `import vtk` would load the MPI override
@@ -92,25 +105,22 @@ print(a.GetNumberOfComponents(), a.GetNumberOfTuples())
 print(*a.GetTuple(i + d[0] * (j + d[1] * k)))
 print(*img.GetSpacing())
 "#;
-    let out = read_at_probe(&python, script, &path);
-    let lines: Vec<&str> = out.lines().collect();
-    assert_eq!(floats(lines[0]), vec![5.0, 7.0, 9.0], "VTK dimensions");
-    assert_eq!(floats(lines[1]), vec![3.0, 315.0], "components, tuples");
+    let lines = read_at_probe(&python, script, &path);
+    assert_eq!(floats(&lines[0]), vec![5.0, 7.0, 9.0], "VTK dimensions");
+    assert_eq!(floats(&lines[1]), vec![3.0, 315.0], "components, tuples");
     assert_close(
-        &floats(lines[2]),
+        &floats(&lines[2]),
         &probe_colour(),
         1e-6,
         "VTK value at the probe",
     );
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn nrrd_opens_in_simpleitk_and_pynrrd_with_geometry_in_cm() {
-    let Some(python) = common::python_with("SimpleITK") else {
+    let Some((python, _dir, path)) = nrrd_and_reader("SimpleITK", "nrrd-itk") else {
         return;
     };
-    let (dir, path) = write_nrrd("nrrd-itk");
     let script = r#"
 import sys
 import SimpleITK as sitk
@@ -122,20 +132,19 @@ print(*img.GetPixel(i, j, k))
 print(*img.GetSpacing())
 print(*img.TransformIndexToPhysicalPoint((i, j, k)))
 "#;
-    let out = read_at_probe(&python, script, &path);
-    let lines: Vec<&str> = out.lines().collect();
-    assert_eq!(floats(lines[0]), vec![5.0, 7.0, 9.0], "ITK size");
-    assert_eq!(floats(lines[1]), vec![3.0], "ITK components");
-    assert_close(&floats(lines[2]), &probe_colour(), 1e-6, "ITK value");
+    let lines = read_at_probe(&python, script, &path);
+    assert_eq!(floats(&lines[0]), vec![5.0, 7.0, 9.0], "ITK size");
+    assert_eq!(floats(&lines[1]), vec![3.0], "ITK components");
+    assert_close(&floats(&lines[2]), &probe_colour(), 1e-6, "ITK value");
     assert_close(
-        &floats(lines[3]),
+        &floats(&lines[3]),
         &[4.0 / 5.0, 4.0 / 7.0, 4.0 / 9.0],
         1e-5,
         "ITK spacing (cm)",
     );
     // Voxel (3, 1, 6) centre in cm: 4 * ((i + 0.5)/n - 0.5).
     let centre = [3.5 / 5.0 - 0.5, 1.5 / 7.0 - 0.5, 6.5 / 9.0 - 0.5].map(|c| 4.0 * c);
-    assert_close(&floats(lines[4]), &centre, 1e-5, "ITK physical point");
+    assert_close(&floats(&lines[4]), &centre, 1e-5, "ITK physical point");
 
     if let Some(py) = common::python_with("nrrd") {
         let script = r#"
@@ -147,14 +156,12 @@ print(*data[:, i, j, k])
 print(*h['space units'])
 print(h['kinds'][0])
 "#;
-        let out = read_at_probe(&py, script, &path);
-        let lines: Vec<&str> = out.lines().collect();
-        assert_eq!(floats(lines[0]), vec![3.0, 5.0, 7.0, 9.0], "pynrrd shape");
-        assert_close(&floats(lines[1]), &probe_colour(), 1e-6, "pynrrd value");
+        let lines = read_at_probe(&py, script, &path);
+        assert_eq!(floats(&lines[0]), vec![3.0, 5.0, 7.0, 9.0], "pynrrd shape");
+        assert_close(&floats(&lines[1]), &probe_colour(), 1e-6, "pynrrd value");
         assert_eq!(lines[2], "cm cm cm");
         assert_eq!(lines[3], "RGB-color");
     }
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// A wood-like colour that differs on every face and inside, in display sRGB.
@@ -233,7 +240,6 @@ bmp.write(sys.argv[2])
         "mean colour of the cube: mitsuba {mt:?} vs xylem {mo:?}"
     );
     assert!(pearson(&lt, &lo) > 0.9, "the same figure on the same faces");
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// A pixel whose 8 neighbours are all on the cube too (edges differ between renderers).

@@ -9,7 +9,7 @@
 mod common;
 mod reliability_support;
 
-use reliability_support::{Expect, Tally, error, judge_run, repo, run, xylem};
+use reliability_support::{Expect, Tally, error, repo, run, run_judged, xylem};
 
 struct Row {
     args: Vec<String>,
@@ -53,319 +53,246 @@ fn shell_words(s: &str) -> Vec<String> {
     words
 }
 
-/// The rows; `$D` is replaced by the scratch folder, `$R` by the repository.
+/// The rows of one command: `command` followed by each case's own words.
+fn rows_of(command: &str, cases: Vec<(&str, Expect)>) -> Vec<Row> {
+    cases
+        .into_iter()
+        .map(|(words, expect)| row(&format!("{command} {words}"), expect))
+        .collect()
+}
+
+/// The rows, by command; `$D` is replaced by the scratch folder, `$R` by the repository.
 fn rows() -> Vec<Row> {
-    vec![
-        // Sizes.
-        row(
-            "field --preset minimal --size 0 --out $D/o",
-            error(&["--size", "N in 2..=8192"]),
+    [
+        rows_of(
+            "field --out $D/o",
+            vec![
+                // Sizes.
+                ("--preset minimal --size 0", error(&["--size", "N in 2..=8192"])),
+                ("--preset minimal --size 1", error(&["--size", "2..=8192"])),
+                ("--preset minimal --size 3x4", error(&["--size", "square"])),
+                ("--preset minimal --size abc", error(&["--size", "N or NxN"])),
+                (
+                    "--preset minimal --size 99999999999999999999",
+                    error(&["--size", "N or NxN"]),
+                ),
+                // Unknown names, conflicting flags.
+                (
+                    "--preset bogus --size 8",
+                    error(&["--preset \"bogus\"", "unknown field preset", "minimal"]),
+                ),
+                (
+                    "--preset minimal --config $D/x.toml --size 8",
+                    error(&["--preset", "cannot be used with", "--config"]),
+                ),
+                (
+                    "--json --preset minimal --size 8",
+                    error(&["--json", "has no summary", "run, fit, train, compare"]),
+                ),
+            ],
         ),
-        row(
-            "field --preset minimal --size 1 --out $D/o",
-            error(&["--size", "2..=8192"]),
+        rows_of(
+            "sample --out $D/o",
+            vec![
+                ("--preset oak --size 0", error(&["--size", "2..=8192"])),
+                (
+                    "--preset teak --size 16",
+                    error(&["\"teak\"", "unknown species preset", "chestnut"]),
+                ),
+            ],
         ),
-        row(
-            "field --preset minimal --size 3x4 --out $D/o",
-            error(&["--size", "square"]),
+        rows_of(
+            "procedural --preset oak --size 8 --out $D/o",
+            vec![
+                ("--volume-size 0", error(&["--volume-size", "2..=1024"])),
+                ("--volume-size 100000", error(&["--volume-size", "2..=1024"])),
+                ("--fibre-direction", error(&["--volume-size"])),
+            ],
         ),
-        row(
-            "field --preset minimal --size abc --out $D/o",
-            error(&["--size", "N or NxN"]),
+        rows_of(
+            "gallery --out $D/o",
+            vec![
+                ("--size 8", error(&["--size", "16..=4096"])),
+                (
+                    "--species oak,teak --size 16",
+                    error(&["--species \"teak\"", "oak, chestnut"]),
+                ),
+            ],
         ),
-        row(
-            "field --preset minimal --size 99999999999999999999 --out $D/o",
-            error(&["--size", "N or NxN"]),
+        rows_of(
+            "demo --out $D/o",
+            vec![
+                ("--size 8", error(&["--size", "16..=2048"])),
+                ("--synth-steps 0", error(&["--synth-steps", "1..=2048"])),
+            ],
         ),
-        row(
-            "sample --preset oak --size 0 --out $D/o",
-            error(&["--size", "2..=8192"]),
+        rows_of(
+            "render --field $R/configs/fields/minimal.toml --out $D/o.png",
+            vec![
+                ("--size 0x5", error(&["--size \"0x5\"", "1..=16384"])),
+                ("--size 16x0", error(&["--size \"16x0\""])),
+                ("--size 100000", error(&["--size \"100000\"", "1..=16384"])),
+                ("--size 8 --view spin", error(&["--view", "cube", "turntable"])),
+                ("--volume $D/v.npy --size 8", error(&["cannot be used with"])),
+                (
+                    "--mesh $D/nothere.obj --size 8",
+                    error(&["nothere.obj", "not found", ".obj"]),
+                ),
+            ],
         ),
-        row(
-            "procedural --preset oak --size 8 --volume-size 0 --out $D/o",
-            error(&["--volume-size", "2..=1024"]),
+        rows_of(
+            "export --volume $D/v.npy",
+            vec![
+                (
+                    "--format mitsuba --image-size 0x0 --out $D/scene",
+                    error(&["--image-size \"0x0\""]),
+                ),
+                (
+                    "--out $D/e.xyz",
+                    error(&["e.xyz", "cannot tell the format", ".npy, .vol, .nrrd or .vdb"]),
+                ),
+                (
+                    "--format tiff --out $D/e.npy",
+                    error(&["format \"tiff\"", "npy, vol, nrrd, vdb or mitsuba"]),
+                ),
+                (
+                    "--values bogus --out $D/e.npy",
+                    error(&["--values", "colour", "data"]),
+                ),
+                (
+                    "--field $R/configs/fields/minimal.toml --out $D/e.nrrd",
+                    error(&["--field and --fibre", ".vdb"]),
+                ),
+            ],
         ),
-        row(
-            "procedural --preset oak --size 8 --volume-size 100000 --out $D/o",
-            error(&["--volume-size", "2..=1024"]),
+        rows_of(
+            "synth --model $D/none --out $D/o",
+            vec![
+                ("--size 0", error(&["--size", "4..=1024"])),
+                ("--size 5000", error(&["--size", "4..=1024"])),
+                ("--size 3x3", error(&["--size", "4..=1024"])),
+                ("--steps 0", error(&["--steps", "1..=2048"])),
+                ("--steps 100000", error(&["--steps", "1..=2048"])),
+                ("--device gpu", error(&["--device \"gpu\"", "flex", "ndarray"])),
+                ("--engine turbo", error(&["engine \"turbo\"", "fused", "burn"])),
+                // No model in the folder.
+                ("", error(&["none", "no model.bpk here", "xylem train"])),
+            ],
         ),
-        row(
-            "procedural --preset oak --size 8 --fibre-direction --out $D/o",
-            error(&["--volume-size"]),
+        rows_of(
+            "run --sample $D/S --out $D/o",
+            vec![
+                ("--image-size 0", error(&["--image-size", "16..=2048"])),
+                ("--image-size 100000", error(&["--image-size", "16..=2048"])),
+                ("--synth-steps 0", error(&["--synth-steps", "1..=2048"])),
+                ("--synth-steps 5000", error(&["--synth-steps", "1..=2048"])),
+                ("--nca-preset huge", error(&["--nca-preset", "quick", "quality"])),
+                // Face lists.
+                (
+                    "--faces A,G",
+                    error(&["--faces \"A,G\"", "\"G\" is not a face", "A..F"]),
+                ),
+                ("--faces ''", error(&["--faces \"\"", "no faces given"])),
+                ("--faces ,,,", error(&["no faces given"])),
+            ],
         ),
-        row(
-            "gallery --size 8 --out $D/o",
-            error(&["--size", "16..=4096"]),
+        rows_of(
+            "fit --sample $D/S --out $D/o",
+            vec![
+                ("--faces Z", error(&["--faces \"Z\"", "not a face"])),
+                ("--faces A;B", error(&["\"A;B\" is not a face"])),
+                ("--config $D/nothere.toml", error(&["nothere.toml", "No such file"])),
+            ],
         ),
-        row("demo --size 8 --out $D/o", error(&["--size", "16..=2048"])),
-        row(
-            "render --field $R/configs/fields/minimal.toml --size 0x5 --out $D/o.png",
-            error(&["--size \"0x5\"", "1..=16384"]),
+        rows_of(
+            "train --sample $D/S",
+            vec![
+                (
+                    "--out $D/o --faces AB --config $D/tiny.toml --fit $R/configs/fields/distorted.toml",
+                    error(&["--faces \"AB\"", "not a face"]),
+                ),
+                (
+                    "--out $D/o --fit $R/configs/fields/distorted.toml",
+                    error(&["--config is required"]),
+                ),
+                ("--out $D/o --config $D/tiny.toml", error(&["--fit is required"])),
+                ("--out $D/empty --resume", error(&["--resume", "holds no checkpoint"])),
+            ],
         ),
-        row(
-            "render --field $R/configs/fields/minimal.toml --size 16x0 --out $D/o.png",
-            error(&["--size \"16x0\""]),
+        rows_of(
+            "texture2d --target $D/S/A_col.png --out $D/o",
+            vec![
+                ("--size 8", error(&["--size", "16..=4096"])),
+                ("--target-size 0 --steps 1", error(&["target_size", "[8, 4096]"])),
+                ("--steps 0", error(&["`steps` = 0", "[1, 1000000]"])),
+                ("--steps 100000000", error(&["`steps` = 100000000"])),
+                ("--lr nan --steps 1", error(&["learning_rate", "NaN"])),
+                ("--lr 1e9 --steps 1", error(&["learning_rate", "<= 10"])),
+                (
+                    "--seed 99999999999999999999999",
+                    error(&["--seed", "too large"]),
+                ),
+            ],
         ),
-        row(
-            "render --field $R/configs/fields/minimal.toml --size 100000 --out $D/o.png",
-            error(&["--size \"100000\"", "1..=16384"]),
-        ),
-        row(
-            "export --volume $D/v.npy --format mitsuba --image-size 0x0 --out $D/scene",
-            error(&["--image-size \"0x0\""]),
-        ),
-        row(
-            "synth --model $D/none --size 0 --out $D/o",
-            error(&["--size", "4..=1024"]),
-        ),
-        row(
-            "synth --model $D/none --size 5000 --out $D/o",
-            error(&["--size", "4..=1024"]),
-        ),
-        row(
-            "synth --model $D/none --size 3x3 --out $D/o",
-            error(&["--size", "4..=1024"]),
-        ),
-        row(
-            "run --sample $D/S --out $D/o --image-size 0",
-            error(&["--image-size", "16..=2048"]),
-        ),
-        row(
-            "run --sample $D/S --out $D/o --image-size 100000",
-            error(&["--image-size", "16..=2048"]),
-        ),
-        row(
-            "texture2d --target $D/S/A_col.png --size 8 --out $D/o",
-            error(&["--size", "16..=4096"]),
-        ),
-        row(
-            "texture2d --target $D/S/A_col.png --target-size 0 --steps 1 --out $D/o",
-            error(&["target_size", "[8, 4096]"]),
-        ),
-        row(
-            "mesh-bowl --segments 0 --out $D/b.obj",
-            error(&["--segments 0", "3..=4096"]),
-        ),
-        row(
-            "mesh-bowl --segments 100000000 --out $D/b.obj",
-            error(&["--segments 100000000", "3..=4096"]),
-        ),
-        // Steps and numbers.
-        row(
-            "synth --model $D/none --steps 0 --out $D/o",
-            error(&["--steps", "1..=2048"]),
-        ),
-        row(
-            "synth --model $D/none --steps 100000 --out $D/o",
-            error(&["--steps", "1..=2048"]),
-        ),
-        row(
-            "run --sample $D/S --out $D/o --synth-steps 0",
-            error(&["--synth-steps", "1..=2048"]),
-        ),
-        row(
-            "run --sample $D/S --out $D/o --synth-steps 5000",
-            error(&["--synth-steps", "1..=2048"]),
-        ),
-        row(
-            "demo --synth-steps 0 --out $D/o",
-            error(&["--synth-steps", "1..=2048"]),
-        ),
-        row(
-            "texture2d --target $D/S/A_col.png --steps 0 --out $D/o",
-            error(&["`steps` = 0", "[1, 1000000]"]),
-        ),
-        row(
-            "texture2d --target $D/S/A_col.png --steps 100000000 --out $D/o",
-            error(&["`steps` = 100000000"]),
-        ),
-        row(
-            "texture2d --target $D/S/A_col.png --lr nan --steps 1 --out $D/o",
-            error(&["learning_rate", "NaN"]),
-        ),
-        row(
-            "texture2d --target $D/S/A_col.png --lr 1e9 --steps 1 --out $D/o",
-            error(&["learning_rate", "<= 10"]),
-        ),
-        row(
-            "texture2d --target $D/S/A_col.png --seed 99999999999999999999999 --out $D/o",
-            error(&["--seed", "too large"]),
-        ),
-        // Unknown names.
-        row(
-            "field --preset bogus --size 8 --out $D/o",
-            error(&["--preset \"bogus\"", "unknown field preset", "minimal"]),
-        ),
-        row(
-            "sample --preset teak --size 16 --out $D/o",
-            error(&["\"teak\"", "unknown species preset", "chestnut"]),
-        ),
-        row(
-            "gallery --species oak,teak --size 16 --out $D/o",
-            error(&["--species \"teak\"", "oak, chestnut"]),
-        ),
-        row(
-            "run --sample $D/S --out $D/o --nca-preset huge",
-            error(&["--nca-preset", "quick", "quality"]),
-        ),
-        row(
-            "render --field $R/configs/fields/minimal.toml --size 8 --view spin --out $D/o.png",
-            error(&["--view", "cube", "turntable"]),
-        ),
-        row(
-            "export --volume $D/v.npy --out $D/e.xyz",
-            error(&[
-                "e.xyz",
-                "cannot tell the format",
-                ".npy, .vol, .nrrd or .vdb",
-            ]),
-        ),
-        row(
-            "export --volume $D/v.npy --format tiff --out $D/e.npy",
-            error(&["format \"tiff\"", "npy, vol, nrrd, vdb or mitsuba"]),
-        ),
-        row(
-            "export --volume $D/v.npy --values bogus --out $D/e.npy",
-            error(&["--values", "colour", "data"]),
-        ),
-        row(
-            "synth --model $D/none --device gpu --out $D/o",
-            error(&["--device \"gpu\"", "flex", "ndarray"]),
-        ),
-        row(
-            "synth --model $D/none --engine turbo --out $D/o",
-            error(&["engine \"turbo\"", "fused", "burn"]),
-        ),
-        row("completions tcsh", error(&["tcsh", "bash", "zsh"])),
-        row(
-            "frobnicate",
-            error(&["unrecognized subcommand 'frobnicate'"]),
-        ),
-        // Face lists.
-        row(
-            "run --sample $D/S --out $D/o --faces A,G",
-            error(&["--faces \"A,G\"", "\"G\" is not a face", "A..F"]),
-        ),
-        row(
-            "run --sample $D/S --out $D/o --faces ''",
-            error(&["--faces \"\"", "no faces given"]),
-        ),
-        row(
-            "run --sample $D/S --out $D/o --faces ,,,",
-            error(&["no faces given"]),
-        ),
-        row(
-            "fit --sample $D/S --out $D/o --faces Z",
-            error(&["--faces \"Z\"", "not a face"]),
-        ),
-        row(
-            "fit --sample $D/S --out $D/o --faces A;B",
-            error(&["\"A;B\" is not a face"]),
-        ),
-        row(
-            "train --sample $D/S --out $D/o --faces AB --config $D/tiny.toml --fit $R/configs/fields/distorted.toml",
-            error(&["--faces \"AB\"", "not a face"]),
+        rows_of(
+            "mesh-bowl --out $D/b.obj",
+            vec![
+                ("--segments 0", error(&["--segments 0", "3..=4096"])),
+                ("--segments 100000000", error(&["--segments 100000000", "3..=4096"])),
+            ],
         ),
         // Plane strings.
-        row(
-            "slice --field $R/configs/fields/minimal.toml --plane cut3 --size 8 --out $D/o.png",
-            error(&["--plane \"cut3\"", "cut1, cut2, a face A..F"]),
-        ),
-        row(
-            "slice --field $R/configs/fields/minimal.toml --plane g --size 8 --out $D/o.png",
-            error(&["--plane \"g\"", "three ';'-separated vectors"]),
-        ),
-        row(
-            "slice --field $R/configs/fields/minimal.toml --plane '1,2;3' --size 8 --out $D/o.png",
-            error(&["three ';'-separated vectors"]),
-        ),
-        row(
-            "slice --field $R/configs/fields/minimal.toml --plane '0,0,0;1,0,0;2,0,0' --size 8 --out $D/o.png",
-            error(&["u and v are parallel or zero"]),
-        ),
-        row(
-            "slice --field $R/configs/fields/minimal.toml --plane '0,0,0;1e-20,0,0;0,1e-20,0' --size 8 --out $D/o.png",
-            error(&["parallel or zero"]),
-        ),
-        row(
-            "slice --field $R/configs/fields/minimal.toml --plane 'nan,0,0;1,0,0;0,1,0' --size 8 --out $D/o.png",
-            error(&["\"nan,0,0\" is not three comma-separated finite numbers"]),
-        ),
-        row(
-            "slice --field $R/configs/fields/minimal.toml --plane '0,0;1,0,0;0,1,0' --size 8 --out $D/o.png",
-            error(&["\"0,0\" is not three"]),
-        ),
-        row(
-            "slice --field $R/configs/fields/minimal.toml --plane '' --size 8 --out $D/o.png",
-            error(&["--plane"]),
-        ),
-        // Missing and conflicting inputs.
-        row(
-            "synth --model $D/none --out $D/o",
-            error(&["none", "no model.bpk here", "xylem train"]),
-        ),
-        row(
-            "train --sample $D/S --out $D/o --fit $R/configs/fields/distorted.toml",
-            error(&["--config is required"]),
-        ),
-        row(
-            "train --sample $D/S --out $D/o --config $D/tiny.toml",
-            error(&["--fit is required"]),
-        ),
-        row(
-            "train --sample $D/S --out $D/empty --resume",
-            error(&["--resume", "holds no checkpoint"]),
-        ),
-        row(
-            "field --preset minimal --config $D/x.toml --size 8 --out $D/o",
-            error(&["--preset", "cannot be used with", "--config"]),
-        ),
-        row(
-            "render --field $R/configs/fields/minimal.toml --volume $D/v.npy --size 8 --out $D/o.png",
-            error(&["cannot be used with"]),
-        ),
-        row(
-            "render --field $R/configs/fields/minimal.toml --mesh $D/nothere.obj --size 8 --out $D/o.png",
-            error(&["nothere.obj", "not found", ".obj"]),
-        ),
-        row(
-            "export --volume $D/v.npy --field $R/configs/fields/minimal.toml --out $D/e.nrrd",
-            error(&["--field and --fibre", ".vdb"]),
-        ),
-        row(
-            "fit --sample $D/S --out $D/o --config $D/nothere.toml",
-            error(&["nothere.toml", "No such file"]),
-        ),
-        row(
-            "compare $D/S/A_col.png $D/nothere.png",
-            error(&["nothere.png", "file not found"]),
-        ),
-        row(
-            "report --run $D/nothere",
-            error(&["nothere", "run folder not found"]),
-        ),
-        row(
-            "report --run $D/S",
-            error(&["holds no run outputs", "xylem run"]),
-        ),
-        row(
-            "field --json --preset minimal --size 8 --out $D/o",
-            error(&["--json", "has no summary", "run, fit, train, compare"]),
+        rows_of(
+            "slice --field $R/configs/fields/minimal.toml --size 8 --out $D/o.png --plane",
+            vec![
+                ("cut3", error(&["--plane \"cut3\"", "cut1, cut2, a face A..F"])),
+                ("g", error(&["--plane \"g\"", "three ';'-separated vectors"])),
+                ("'1,2;3'", error(&["three ';'-separated vectors"])),
+                ("'0,0,0;1,0,0;2,0,0'", error(&["u and v are parallel or zero"])),
+                ("'0,0,0;1e-20,0,0;0,1e-20,0'", error(&["parallel or zero"])),
+                (
+                    "'nan,0,0;1,0,0;0,1,0'",
+                    error(&["\"nan,0,0\" is not three comma-separated finite numbers"]),
+                ),
+                ("'0,0;1,0,0;0,1,0'", error(&["\"0,0\" is not three"])),
+                ("''", error(&["--plane"])),
+            ],
         ),
         // Accepted spellings mean the same.
-        row(
-            "slice --field $R/configs/fields/minimal.toml --plane ' CUT1 ' --size 8x8 --out $D/ok1.png",
-            Expect::Fine,
+        rows_of(
+            "slice --field $R/configs/fields/minimal.toml",
+            vec![
+                ("--plane ' CUT1 ' --size 8x8 --out $D/ok1.png", Expect::Fine),
+                ("--plane a --size 8 --out $D/ok2.png", Expect::Fine),
+                (
+                    "--plane '-0.5,0.5,0.5;1,0,0;0,-1,0' --size 8 --out $D/ok3.png",
+                    Expect::Fine,
+                ),
+            ],
         ),
-        row(
-            "slice --field $R/configs/fields/minimal.toml --plane a --size 8 --out $D/ok2.png",
-            Expect::Fine,
+        // Other commands: unknown names, missing inputs.
+        rows_of(
+            "report --run",
+            vec![
+                ("$D/nothere", error(&["nothere", "run folder not found"])),
+                ("$D/S", error(&["holds no run outputs", "xylem run"])),
+            ],
         ),
-        row(
-            "slice --field $R/configs/fields/minimal.toml --plane '-0.5,0.5,0.5;1,0,0;0,-1,0' --size 8 --out $D/ok3.png",
-            Expect::Fine,
-        ),
+        vec![
+            row("completions tcsh", error(&["tcsh", "bash", "zsh"])),
+            row(
+                "frobnicate",
+                error(&["unrecognized subcommand 'frobnicate'"]),
+            ),
+            row(
+                "compare $D/S/A_col.png $D/nothere.png",
+                error(&["nothere.png", "file not found"]),
+            ),
+        ],
     ]
+    .into_iter()
+    .flatten()
+    .collect()
 }
 
 /// Files under `dir` (recursively) other than xylem's folder marker.
@@ -402,8 +329,7 @@ fn bad_flag_values_are_refused_naming_the_flag() {
             .map(|a| a.replace("$D", &d).replace("$R", r))
             .collect();
         let name = args.join(" ");
-        let outcome = run(xylem().args(&args));
-        tally.add(judge_run(&name, &outcome, &row.expect));
+        let outcome = tally.judge_call(&name, xylem().args(&args), &row.expect);
         if matches!(row.expect, Expect::Error(_)) {
             assert!(
                 matches!(outcome.code, Some(1) | Some(2)),
@@ -432,7 +358,6 @@ fn bad_flag_values_are_refused_naming_the_flag() {
         "face A is the plane (-0.5, 0.5, 0.5; 1, 0, 0; 0, -1, 0)"
     );
     tally.print("CLI flags");
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// Bugs of the commands themselves (in `src/cli/`, `src/frame/plane.rs`, the error printer)
@@ -447,49 +372,45 @@ mod cli_bugs_found_by_the_suite {
         let dir = reliability_support::scratch("rel-cli-species");
         let (sample, _) = reliability_support::tiny_sample_and_nca(&dir, 32);
         std::fs::write(dir.join("fit.toml"), reliability_support::FAST_FIT).unwrap();
-        let outcome = run(xylem()
-            .args([
-                "run",
-                "--species",
-                "teak",
-                "--synth-steps",
-                "2",
-                "--image-size",
-                "16",
-            ])
-            .arg("--sample")
-            .arg(&sample)
-            .arg("--nca-config")
-            .arg(dir.join("tiny.toml"))
-            .arg("--fit-config")
-            .arg(dir.join("fit.toml"))
-            .arg("--out")
-            .arg(dir.join("R")));
-        judge_run(
+        run_judged(
             "run --species teak",
-            &outcome,
+            xylem()
+                .args([
+                    "run",
+                    "--species",
+                    "teak",
+                    "--synth-steps",
+                    "2",
+                    "--image-size",
+                    "16",
+                ])
+                .arg("--sample")
+                .arg(&sample)
+                .arg("--nca-config")
+                .arg(dir.join("tiny.toml"))
+                .arg("--fit-config")
+                .arg(dir.join("fit.toml"))
+                .arg("--out")
+                .arg(dir.join("R")),
             &error(&["--species", "teak", "oak"]),
         );
         assert!(
             !dir.join("R/fit").exists(),
             "the fit ran before the species was checked"
         );
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     /// `xylem demo --species teak` says `--preset "teak"`.
     #[test]
     fn demo_names_the_species_flag() {
         let dir = reliability_support::scratch("rel-cli-demo");
-        let outcome = run(xylem()
-            .args(["demo", "--species", "teak", "--size", "16", "--out"])
-            .arg(dir.join("d")));
-        judge_run(
+        run_judged(
             "demo --species teak",
-            &outcome,
+            xylem()
+                .args(["demo", "--species", "teak", "--size", "16", "--out"])
+                .arg(dir.join("d")),
             &error(&["--species", "teak"]),
         );
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     /// A plane with edges of 1e30 cube units passes the parallel check (the cross product
@@ -497,24 +418,22 @@ mod cli_bugs_found_by_the_suite {
     #[test]
     fn huge_plane_vectors_are_refused() {
         let dir = reliability_support::scratch("rel-cli-plane");
-        let outcome = run(xylem()
-            .args([
-                "slice",
-                "--plane",
-                "0,0,0;1e30,0,0;0,1e30,0",
-                "--size",
-                "8",
-                "--field",
-            ])
-            .arg(repo("configs/fields/minimal.toml"))
-            .arg("--out")
-            .arg(dir.join("p.png")));
-        judge_run(
+        run_judged(
             "slice with 1e30 plane edges",
-            &outcome,
+            xylem()
+                .args([
+                    "slice",
+                    "--plane",
+                    "0,0,0;1e30,0,0;0,1e30,0",
+                    "--size",
+                    "8",
+                    "--field",
+                ])
+                .arg(repo("configs/fields/minimal.toml"))
+                .arg("--out")
+                .arg(dir.join("p.png")),
             &error(&["--plane"]),
         );
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     /// `xylem compare one.png one.png` on 1x1 images: "style target 0: is 1x1 ..." names
@@ -524,9 +443,11 @@ mod cli_bugs_found_by_the_suite {
         let dir = reliability_support::scratch("rel-cli-compare");
         let one = dir.join("one.png");
         xylem::io::save_png(&xylem::Image2::filled(1, 1, 3, 0.5), &one).unwrap();
-        let outcome = run(xylem().arg("compare").arg(&one).arg(&one));
-        judge_run("compare 1x1 images", &outcome, &error(&["one.png", "1x1"]));
-        std::fs::remove_dir_all(&dir).unwrap();
+        run_judged(
+            "compare 1x1 images",
+            xylem().arg("compare").arg(&one).arg(&one),
+            &error(&["one.png", "1x1"]),
+        );
     }
 
     /// An I/O error prints the OS message twice: "x.toml: No such file or directory (os
@@ -545,7 +466,6 @@ mod cli_bugs_found_by_the_suite {
             "{}",
             outcome.stderr
         );
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     /// `xylem train --fit FIFO` blocks forever reading it.
@@ -558,21 +478,19 @@ mod cli_bugs_found_by_the_suite {
         if !made.is_ok_and(|s| s.success()) {
             return;
         }
-        let outcome = run(xylem()
-            .arg("train")
-            .arg("--sample")
-            .arg(dir.join("S"))
-            .arg("--config")
-            .arg(dir.join("tiny.toml"))
-            .arg("--fit")
-            .arg(&fifo)
-            .arg("--out")
-            .arg(dir.join("T")));
-        judge_run(
+        run_judged(
             "train --fit FIFO",
-            &outcome,
+            xylem()
+                .arg("train")
+                .arg("--sample")
+                .arg(dir.join("S"))
+                .arg("--config")
+                .arg(dir.join("tiny.toml"))
+                .arg("--fit")
+                .arg(&fifo)
+                .arg("--out")
+                .arg(dir.join("T")),
             &error(&["fit.toml", "not a regular file"]),
         );
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

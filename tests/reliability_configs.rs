@@ -20,7 +20,7 @@ use xylem::nca::TrainConfig;
 use xylem::procedural::SpeciesConfig;
 use xylem::render::RenderConfig;
 
-use reliability_support::{Expect, Tally, error, judge_result, judge_run, repo, run, set, xylem};
+use reliability_support::{Expect, Tally, error, judge_result, repo, set, xylem};
 use xylem::config::ConfigFile;
 
 const FIELD: &str = "[pith]\norigin = [0.0, 0.0, -2.5]\ndirection = [0.0, 1.0, 0.1]\n\
@@ -711,8 +711,7 @@ fn accepted_configs_mean_what_they_say() {
 #[test]
 fn absurd_sizes_are_refused_before_work_starts() {
     let dir = reliability_support::scratch("rel-configs-cli");
-    let sample = dir.join("S");
-    reliability_support::write_tiny_sample(&sample, 16);
+    let (sample, _) = reliability_support::tiny_sample_and_nca(&dir, 16);
     let huge = dir.join("huge.toml");
     std::fs::write(
         &huge,
@@ -728,45 +727,42 @@ fn absurd_sizes_are_refused_before_work_starts() {
     std::fs::write(&many, format!("{FIELD}{knots}")).unwrap();
 
     let mut tally = Tally::default();
-    let outcome = run(xylem()
-        .args(["train", "--sample"])
-        .arg(&sample)
-        .arg("--fit")
-        .arg(repo("configs/fields/distorted.toml"))
-        .arg("--config")
-        .arg(&huge)
-        .arg("--out")
-        .arg(dir.join("t")));
-    tally.add(judge_run(
+    let outcome = tally.judge_call(
         "nca: 512^3 crops of 64 steps (~12 TB of tape)",
-        &outcome,
+        xylem()
+            .args(["train", "--sample"])
+            .arg(&sample)
+            .arg("--fit")
+            .arg(repo("configs/fields/distorted.toml"))
+            .arg("--config")
+            .arg(&huge)
+            .arg("--out")
+            .arg(dir.join("t")),
         &error(&["crop", "needs ~", "GB, this machine has", "smaller crop"]),
-    ));
+    );
     assert!(
         outcome.seconds < 20.0,
         "refused only after {:.0} s",
         outcome.seconds
     );
-    let outcome = run(xylem()
-        .args(["field", "--size", "8", "--config"])
-        .arg(&many)
-        .arg("--out")
-        .arg(dir.join("f")));
-    tally.add(judge_run(
+    tally.judge_call(
         "field: 100 knots end to end",
-        &outcome,
+        xylem()
+            .args(["field", "--size", "8", "--config"])
+            .arg(&many)
+            .arg("--out")
+            .arg(dir.join("f")),
         &error(&["many_knots.toml", "`knots` = 100", "[0, 64]"]),
-    ));
-    let outcome = run(xylem()
-        .args(["slice", "--plane", "cut1", "--size", "8", "--procedural"])
-        .arg(dir.join("missing.toml"))
-        .arg("--out")
-        .arg(dir.join("s.png")));
-    tally.add(judge_run(
+    );
+    tally.judge_call(
         "species: a missing file",
-        &outcome,
+        xylem()
+            .args(["slice", "--plane", "cut1", "--size", "8", "--procedural"])
+            .arg(dir.join("missing.toml"))
+            .arg("--out")
+            .arg(dir.join("s.png")),
         &error(&["missing.toml"]),
-    ));
+    );
     tally.print("configs (CLI)");
     std::fs::remove_dir_all(&dir).unwrap();
 }

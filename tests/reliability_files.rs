@@ -23,7 +23,7 @@ use xylem::nca::model_dir::{ModelMeta, TrainedModel};
 use xylem::nca::train::Trainer;
 
 use reliability_support::{
-    Expect, Tally, copy_dir, error, judge_result, judge_run, run, set, tiny_data, tiny_model, xylem,
+    Expect, Tally, copy_dir, error, judge_result, set, tiny_data, tiny_model, xylem,
 };
 
 /// A `.npy` file with the header dictionary `dict` (padded as numpy does), format
@@ -57,8 +57,25 @@ fn floats(n: usize) -> Vec<u8> {
         .collect()
 }
 
+/// A version 1.0 npy with the given header fields.
+fn npy1(descr: &str, fortran: &str, shape: &str, data: &[u8]) -> Vec<u8> {
+    npy(&dict(descr, fortran, shape), 1, data)
+}
+
+/// A version 1.0 npy of C-ordered little-endian float32 values of `shape`.
+fn f4(shape: &str, data: &[u8]) -> Vec<u8> {
+    npy1("<f4", "False", shape, data)
+}
+
 fn good_npy() -> Vec<u8> {
-    npy(&dict("<f4", "False", "(2, 2, 2, 3)"), 1, &floats(24))
+    f4("(2, 2, 2, 3)", &floats(24))
+}
+
+/// `bytes` with the byte at `at` set to `value`.
+fn patched(bytes: &[u8], at: usize, value: u8) -> Vec<u8> {
+    let mut b = bytes.to_vec();
+    b[at] = value;
+    b
 }
 
 struct FileRow {
@@ -116,17 +133,17 @@ fn npy_rows() -> Vec<FileRow> {
         file_row("npy: empty", Vec::new(), error(&["not a .npy file"])),
         file_row(
             "npy: float64",
-            npy(&dict("<f8", "False", "(2, 2, 2, 3)"), 1, &floats(48)),
+            npy1("<f8", "False", "(2, 2, 2, 3)", &floats(48)),
             error(&["little-endian float32", "'<f4'"]),
         ),
         file_row(
             "npy: big-endian float32",
-            npy(&dict(">f4", "False", "(2, 2, 2, 3)"), 1, &floats(24)),
+            npy1(">f4", "False", "(2, 2, 2, 3)", &floats(24)),
             error(&["little-endian float32"]),
         ),
         file_row(
             "npy: dtype '<f4x' (a substring match passed it)",
-            npy(&dict("<f4x", "False", "(2, 2, 2, 3)"), 1, &floats(24)),
+            npy1("<f4x", "False", "(2, 2, 2, 3)", &floats(24)),
             error(&["little-endian float32"]),
         ),
         file_row(
@@ -140,40 +157,32 @@ fn npy_rows() -> Vec<FileRow> {
         ),
         file_row(
             "npy: Fortran order",
-            npy(&dict("<f4", "True", "(2, 2, 2, 3)"), 1, &floats(24)),
+            npy1("<f4", "True", "(2, 2, 2, 3)", &floats(24)),
             error(&["C order", "fortran_order False"]),
         ),
         file_row(
             "npy: shape product overflows (4611686018427387904, 4, 1, 1)",
-            npy(
-                &dict("<f4", "False", "(4611686018427387904, 4, 1, 1)"),
-                1,
-                &[],
-            ),
+            f4("(4611686018427387904, 4, 1, 1)", &[]),
             error(&["npy shape", "too large to address"]),
         ),
         file_row(
             "npy: shape of 17 GB (1073741824, 1073741824, 4, 4)",
-            npy(
-                &dict("<f4", "False", "(1073741824, 1073741824, 4, 4)"),
-                1,
-                &[],
-            ),
+            f4("(1073741824, 1073741824, 4, 4)", &[]),
             error(&["too large to address"]),
         ),
         file_row(
             "npy: shape of 16 GB, no data",
-            npy(&dict("<f4", "False", "(1073741824, 4, 1, 1)"), 1, &[]),
+            f4("(1073741824, 4, 1, 1)", &[]),
             error(&["needs 17179869184 bytes of data, file has 0"]),
         ),
         file_row(
             "npy: negative shape entry",
-            npy(&dict("<f4", "False", "(-1, 2, 2, 3)"), 1, &floats(24)),
+            f4("(-1, 2, 2, 3)", &floats(24)),
             error(&["npy shape entry \"-1\" is not a size"]),
         ),
         file_row(
             "npy: shape entry 1e3",
-            npy(&dict("<f4", "False", "(1e3, 2, 2, 3)"), 1, &floats(24)),
+            f4("(1e3, 2, 2, 3)", &floats(24)),
             error(&["\"1e3\" is not a size"]),
         ),
         file_row(
@@ -183,21 +192,17 @@ fn npy_rows() -> Vec<FileRow> {
         ),
         file_row(
             "npy: 3-D array",
-            npy(&dict("<f4", "False", "(2, 2, 6)"), 1, &floats(24)),
+            f4("(2, 2, 6)", &floats(24)),
             error(&["volume must have shape [X, Y, Z, C]", "[2, 2, 6]"]),
         ),
         file_row(
             "npy: empty axis",
-            npy(&dict("<f4", "False", "(0, 2, 2, 3)"), 1, &[]),
+            f4("(0, 2, 2, 3)", &[]),
             error(&["empty axis", "all > 0"]),
         ),
         file_row(
             "npy: version 9",
-            {
-                let mut b = good.clone();
-                b[6] = 9;
-                b
-            },
+            patched(&good, 6, 9),
             error(&["unsupported npy version 9"]),
         ),
     ]
@@ -303,11 +308,7 @@ fn vol_rows(dir: &Path) -> Vec<FileRow> {
         ),
         file_row(
             "vol: half-float encoding",
-            {
-                let mut b = good.clone();
-                b[4] = 2;
-                b
-            },
+            patched(&good, 4, 2),
             error(&["only float32 encoding"]),
         ),
     ]
@@ -377,25 +378,9 @@ fn leftovers(dir: &Path) -> Vec<String> {
 fn commands_refuse_crafted_volumes() {
     let dir = reliability_support::scratch("rel-files-cli");
     let overflow = dir.join("overflow.npy");
-    std::fs::write(
-        &overflow,
-        npy(
-            &dict("<f4", "False", "(4611686018427387904, 4, 1, 1)"),
-            1,
-            &[],
-        ),
-    )
-    .unwrap();
+    std::fs::write(&overflow, f4("(4611686018427387904, 4, 1, 1)", &[])).unwrap();
     let huge = dir.join("huge.npy");
-    std::fs::write(
-        &huge,
-        npy(
-            &dict("<f4", "False", "(1073741824, 1073741824, 4, 4)"),
-            1,
-            &[],
-        ),
-    )
-    .unwrap();
+    std::fs::write(&huge, f4("(1073741824, 1073741824, 4, 4)", &[])).unwrap();
     let mut tally = Tally::default();
     let mut cases: Vec<(String, Vec<std::ffi::OsString>, Expect)> = Vec::new();
     for (label, file) in [("overflow", &overflow), ("17 GB", &huge)] {
@@ -516,8 +501,7 @@ fn commands_refuse_crafted_volumes() {
         ));
     }
     for (name, args, expect) in &cases {
-        let outcome = run(xylem().args(args));
-        tally.add(judge_run(name, &outcome, expect));
+        let outcome = tally.judge_call(name, xylem().args(args), expect);
         assert!(outcome.seconds < 10.0, "{name}: {:.1} s", outcome.seconds);
     }
     assert!(leftovers(&dir).is_empty(), "{:?}", leftovers(&dir));
@@ -535,6 +519,11 @@ fn model_copy(dir: &Path, name: &str, edit: impl Fn(&str) -> String) -> PathBuf 
     let text = std::fs::read_to_string(to.join("model.toml")).unwrap();
     std::fs::write(to.join("model.toml"), edit(&text)).unwrap();
     to
+}
+
+/// An edit of `model.toml` that sets `key` (dotted) to the TOML value `value`.
+fn setting(key: &'static str, value: &'static str) -> Box<dyn Fn(&str) -> String> {
+    Box::new(move |t| set(t, key, Some(value)))
 }
 
 fn without_hash(text: &str) -> String {
@@ -558,73 +547,70 @@ fn damaged_models_and_checkpoints_give_clear_errors() {
         ),
         (
             "model.toml: grid = 0",
-            Box::new(|t| set(t, "grid", Some("0"))),
+            setting("grid", "0"),
             error(&["model.toml", "`grid` = 0", "[4, 1024]"]),
         ),
         (
             "model.toml: grid = 100000",
-            Box::new(|t| set(t, "grid", Some("100000"))),
+            setting("grid", "100000"),
             error(&["`grid` = 100000"]),
         ),
         (
             "model.toml: white_balance = [0, 0, 0] (gave a +-inf volume)",
-            Box::new(|t| set(t, "normalisation.white_balance", Some("[0.0, 0.0, 0.0]"))),
+            setting("normalisation.white_balance", "[0.0, 0.0, 0.0]"),
             error(&["normalisation.white_balance[0]", "> 0"]),
         ),
         (
             "model.toml: white_balance inf",
-            Box::new(|t| set(t, "normalisation.white_balance", Some("[inf, 1.0, 1.0]"))),
+            setting("normalisation.white_balance", "[inf, 1.0, 1.0]"),
             error(&["normalisation.white_balance[0]", "inf"]),
         ),
         (
             "model.toml: NaN colour_projection",
-            Box::new(|t| {
-                set(
-                    t,
-                    "normalisation.colour_projection",
-                    Some("[[nan, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]"),
-                )
-            }),
+            setting(
+                "normalisation.colour_projection",
+                "[[nan, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]",
+            ),
             error(&["normalisation.colour_projection", "finite in [-1, 1]"]),
         ),
         (
             "model.toml: NaN g_range",
-            Box::new(|t| set(t, "normalisation.g_range", Some("[nan, 300.0]"))),
+            setting("normalisation.g_range", "[nan, 300.0]"),
             error(&["normalisation.g_range", "low < high"]),
         ),
         (
             "model.toml: equal g_range",
-            Box::new(|t| set(t, "normalisation.g_range", Some("[5.0, 5.0]"))),
+            setting("normalisation.g_range", "[5.0, 5.0]"),
             error(&["normalisation.g_range", "[5, 5]"]),
         ),
         (
             "model.toml: g_range of 3 values",
-            Box::new(|t| set(t, "normalisation.g_range", Some("[1.0, 2.0, 3.0]"))),
+            setting("normalisation.g_range", "[1.0, 2.0, 3.0]"),
             error(&["normalisation.g_range: 3 values given, expected 2"]),
         ),
         (
             "model.toml: hidden 0",
-            Box::new(|t| set(t, "spec.hidden", Some("0"))),
+            setting("spec.hidden", "0"),
             error(&["spec.hidden", "[1, 1024]"]),
         ),
         (
             "model.toml: hidden other than the weights",
-            Box::new(|t| set(t, "spec.hidden", Some("16"))),
+            setting("spec.hidden", "16"),
             error(&["model.bpk", "not a burnpack model of this architecture"]),
         ),
         (
             "model.toml: a face G",
-            Box::new(|t| set(t, "faces", Some("[\"G\"]"))),
+            setting("faces", "[\"G\"]"),
             error(&["model.toml", "unknown variant `G`"]),
         ),
         (
             "model.toml: unknown key",
-            Box::new(|t| set(t, "temperature", Some("3"))),
+            setting("temperature", "3"),
             error(&["model.toml", "unknown field `temperature`"]),
         ),
         (
             "model.toml: another weights_hash",
-            Box::new(|t| set(t, "weights_hash", Some("\"0123456789abcdef\""))),
+            setting("weights_hash", "\"0123456789abcdef\""),
             error(&["model.bpk", "content hash", "differs from weights_hash"]),
         ),
         (
@@ -847,6 +833,15 @@ fn damaged_models_and_checkpoints_give_clear_errors() {
 
     // The commands on damaged models: synth refuses them up front.
     let mut cli = Tally::default();
+    // `xylem synth --steps 2 --model MODEL --out DIR/OUT`.
+    let synth = |model: &Path, out: &str| {
+        let mut cmd = xylem();
+        cmd.args(["synth", "--steps", "2", "--model"])
+            .arg(model)
+            .arg("--out")
+            .arg(dir.join(out));
+        cmd
+    };
     for (name, edit, expect) in [
         (
             "synth: model.toml grid = 0 (it panicked)",
@@ -867,32 +862,21 @@ fn damaged_models_and_checkpoints_give_clear_errors() {
         let m = model_copy(&dir, &format!("synth-{edit}"), |t| {
             without_hash(&set(t, "grid", Some(edit)))
         });
-        let outcome = run(xylem()
-            .args(["synth", "--steps", "2", "--model"])
-            .arg(&m)
-            .arg("--out")
-            .arg(dir.join(format!("out-{edit}"))));
-        cli.add(judge_run(name, &outcome, &expect));
+        let outcome = cli.judge_call(name, &mut synth(&m, &format!("out-{edit}")), &expect);
         assert!(outcome.seconds < 10.0, "{name}: {:.1} s", outcome.seconds);
     }
     let m = model_copy(&dir, "synth-flipped", |t| t.to_string());
     std::fs::write(m.join("model.bpk"), &flipped).unwrap();
-    let outcome = run(xylem()
-        .args(["synth", "--steps", "2", "--model"])
-        .arg(&m)
-        .arg("--out")
-        .arg(dir.join("out-flipped")));
-    cli.add(judge_run(
+    cli.judge_call(
         "synth: flipped weights",
-        &outcome,
+        &mut synth(&m, "out-flipped"),
         &error(&["model.bpk", "differs from weights_hash"]),
-    ));
-    let outcome = run(xylem()
-        .args(["synth", "--steps", "2", "--size", "8", "--model"])
-        .arg(dir.join("model"))
-        .arg("--out")
-        .arg(dir.join("out-good")));
-    cli.add(judge_run("synth: the tiny model", &outcome, &Expect::Fine));
+    );
+    cli.judge_call(
+        "synth: the tiny model",
+        synth(&dir.join("model"), "out-good").args(["--size", "8"]),
+        &Expect::Fine,
+    );
     let volume = read_volume(&dir.join("out-good/volume.npy")).unwrap();
     assert_eq!((volume.dims, volume.channels), ([8, 8, 8], 3));
     assert!(volume.data.iter().all(|v| v.is_finite()));

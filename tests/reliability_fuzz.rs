@@ -347,13 +347,102 @@ fn edit_png(rng: &mut Rng, bytes: &mut [u8]) -> bool {
             _ => bytes[data + 9] = *pick(rng, &[0u8, 2, 3, 4, 6, 1, 7, 255]),
         }
     } else {
-        for _ in 0..1 + rng.below(4) {
-            let i = data + rng.below(len);
-            bytes[i] ^= 1 << rng.below(8);
-        }
+        flip_bits(rng, &mut bytes[data..data + len], 4);
     }
     let crc = reliability_support::crc32(&bytes[at + 4..data + len]);
     bytes[data + len..data + len + 4].copy_from_slice(&crc.to_be_bytes());
+    true
+}
+
+/// Flips one to `most` random bits of `bytes` (false when it is empty).
+fn flip_bits(rng: &mut Rng, bytes: &mut [u8], most: usize) -> bool {
+    if bytes.is_empty() {
+        return false;
+    }
+    for _ in 0..1 + rng.below(most) {
+        let i = rng.below(bytes.len());
+        bytes[i] ^= 1 << rng.below(8);
+    }
+    true
+}
+
+/// A random non-empty range inside `len` bytes, at most `most` long (None when `len` is 0).
+fn random_span(rng: &mut Rng, len: usize, most: usize) -> Option<std::ops::Range<usize>> {
+    if len == 0 {
+        return None;
+    }
+    let start = rng.below(len);
+    Some(start..(start + 1 + rng.below(most)).min(len))
+}
+
+/// Cuts the file at a random length (possibly to nothing).
+fn cut_at_random(rng: &mut Rng, bytes: &mut Vec<u8>) -> bool {
+    let keep = rng.below(bytes.len() + 1);
+    bytes.truncate(keep);
+    true
+}
+
+/// Overwrites four bytes with an interesting word (zero, extremes, f32 inf and NaN).
+fn write_word(rng: &mut Rng, bytes: &mut [u8]) -> bool {
+    if bytes.len() < 4 {
+        return false;
+    }
+    let i = rng.below(bytes.len() - 3);
+    let words: [u32; 8] = [
+        0,
+        1,
+        0x7fff_ffff,
+        0xffff_ffff,
+        0x8000_0000,
+        0x0001_0000,
+        0x7f80_0000, // f32 inf
+        0x7fc0_0000, // f32 NaN
+    ];
+    bytes[i..i + 4].copy_from_slice(&pick(rng, &words).to_le_bytes());
+    true
+}
+
+/// `n` random bytes.
+fn random_bytes(rng: &mut Rng, n: usize) -> Vec<u8> {
+    (0..n).map(|_| rng.next_u64() as u8).collect()
+}
+
+/// Inserts 1 to 64 random bytes somewhere.
+fn insert_noise(rng: &mut Rng, bytes: &mut Vec<u8>) -> bool {
+    let at = rng.below(bytes.len() + 1);
+    let n = 1 + rng.below(64);
+    let noise = random_bytes(rng, n);
+    bytes.splice(at..at, noise);
+    true
+}
+
+/// Repeats a block of up to 256 bytes after itself (duplicated structure, longer data).
+fn repeat_block(rng: &mut Rng, bytes: &mut Vec<u8>) -> bool {
+    let Some(span) = random_span(rng, bytes.len(), 256) else {
+        return false;
+    };
+    let block = bytes[span.clone()].to_vec();
+    bytes.splice(span.end..span.end, block);
+    true
+}
+
+/// A whole random file of up to 255 bytes.
+fn random_file(rng: &mut Rng) -> Vec<u8> {
+    let n = rng.below(256);
+    random_bytes(rng, n)
+}
+
+/// Text-like characters, so a scribbled text file stays text.
+const PRINTABLE: &[u8] = b" -.,=[]\"'0123456789aezx{}()#\n";
+
+/// Overwrites up to 8 bytes with printable characters.
+fn scribble(rng: &mut Rng, bytes: &mut [u8]) -> bool {
+    let Some(span) = random_span(rng, bytes.len(), 8) else {
+        return false;
+    };
+    for b in &mut bytes[span] {
+        *b = PRINTABLE[rng.below(PRINTABLE.len())];
+    }
     true
 }
 
@@ -370,83 +459,16 @@ fn mutate(rng: &mut Rng, seed: &[u8], kind: Kind) -> Vec<u8> {
         };
         let choice = rng.below(10 + structured);
         let done = match choice {
-            0..=2 => {
-                // Bit flips.
-                if bytes.is_empty() {
-                    false
-                } else {
-                    for _ in 0..1 + rng.below(8) {
-                        let i = rng.below(bytes.len());
-                        bytes[i] ^= 1 << rng.below(8);
-                    }
-                    true
-                }
-            }
-            3 | 4 => {
-                // Truncation.
-                let keep = rng.below(bytes.len() + 1);
-                bytes.truncate(keep);
-                true
-            }
-            5 => {
-                // Interesting bytes or words.
-                if bytes.len() < 4 {
-                    false
-                } else {
-                    let i = rng.below(bytes.len() - 3);
-                    let words: [u32; 8] = [
-                        0,
-                        1,
-                        0x7fff_ffff,
-                        0xffff_ffff,
-                        0x8000_0000,
-                        0x0001_0000,
-                        0x7f80_0000, // f32 inf
-                        0x7fc0_0000, // f32 NaN
-                    ];
-                    bytes[i..i + 4].copy_from_slice(&pick(rng, &words).to_le_bytes());
-                    true
-                }
-            }
-            6 => {
-                // Random bytes inserted.
-                let at = rng.below(bytes.len() + 1);
-                let n = 1 + rng.below(64);
-                let noise: Vec<u8> = (0..n).map(|_| rng.next_u64() as u8).collect();
-                bytes.splice(at..at, noise);
-                true
-            }
-            7 => {
-                // A block repeated (duplicated structure, longer data).
-                if bytes.is_empty() {
-                    false
-                } else {
-                    let a = rng.below(bytes.len());
-                    let b = (a + 1 + rng.below(256)).min(bytes.len());
-                    let block = bytes[a..b].to_vec();
-                    bytes.splice(b..b, block);
-                    true
-                }
-            }
+            0..=2 => flip_bits(rng, &mut bytes, 8),
+            3 | 4 => cut_at_random(rng, &mut bytes),
+            5 => write_word(rng, &mut bytes),
+            6 => insert_noise(rng, &mut bytes),
+            7 => repeat_block(rng, &mut bytes),
             8 => {
-                // A whole random file.
-                let n = rng.below(256);
-                bytes = (0..n).map(|_| rng.next_u64() as u8).collect();
+                bytes = random_file(rng);
                 true
             }
-            9 => {
-                // A printable random overwrite (stays text for text files).
-                if bytes.is_empty() {
-                    false
-                } else {
-                    let i = rng.below(bytes.len());
-                    let n = (1 + rng.below(8)).min(bytes.len() - i);
-                    for b in &mut bytes[i..i + n] {
-                        *b = b" -.,=[]\"'0123456789aezx{}()#\n"[rng.below(29)];
-                    }
-                    true
-                }
-            }
+            9 => scribble(rng, &mut bytes),
             _ => match kind {
                 Kind::Png => edit_png(rng, &mut bytes),
                 _ => match choice - 10 {
@@ -498,8 +520,9 @@ fn scale() -> usize {
 
 struct Target {
     name: &'static str,
-    /// What every error message must name (the file, or the folder holding it).
-    names: String,
+    /// What the loader is given: the mutated file, or the folder holding it. Every error
+    /// message must name it.
+    given: PathBuf,
     kind: Kind,
     seeds: Vec<Vec<u8>>,
     /// Where each mutated file is written before the loader runs.
@@ -508,7 +531,7 @@ struct Target {
 }
 
 impl Target {
-    /// A target whose mutated `file` is what the loader is given, so errors must name it.
+    /// A target whose mutated `file` is what the loader is given.
     fn file(
         name: &'static str,
         kind: Kind,
@@ -516,14 +539,28 @@ impl Target {
         file: PathBuf,
         cases: usize,
     ) -> Self {
-        let names = show(&file);
         Target {
             name,
-            names,
+            given: file.clone(),
             kind,
             seeds,
             file,
             cases,
+        }
+    }
+
+    /// A target whose mutated file is `file` inside `folder`, the folder the loader is given.
+    fn in_folder(
+        name: &'static str,
+        kind: Kind,
+        seeds: Vec<Vec<u8>>,
+        folder: &Path,
+        file: impl AsRef<Path>,
+        cases: usize,
+    ) -> Self {
+        Target {
+            given: folder.to_path_buf(),
+            ..Target::file(name, kind, seeds, folder.join(file), cases)
         }
     }
 }
@@ -588,35 +625,30 @@ struct CaseReport {
     largest: usize,
 }
 
-/// Runs `cases` mutated files through `load` on a worker thread; returns the number of Ok
-/// and Err results. Panics (with every failing case) on a panic, hang or absurd allocation.
+/// Runs `cases` mutated files through `load` (given what the target gives the loader: the
+/// file, or its folder) on a worker thread; returns the number of Ok and Err results. Panics
+/// (with every failing case) on a panic, hang or absurd allocation.
 fn fuzz<F>(scratch: &Path, target: Target, seed: u64, load: F) -> (usize, usize)
 where
-    F: Fn() -> Verdict + Send + 'static,
+    F: Fn(&Path) -> Verdict + Send + 'static,
 {
     quiet_panics();
     let (tx, rx) = mpsc::channel::<CaseReport>();
-    let Target {
-        name,
-        names,
-        kind,
-        seeds,
-        file,
-        cases,
-    } = target;
-    assert!(!seeds.is_empty(), "{name}: no seed files");
-    let cases = cases * scale();
+    let name = target.name;
+    let names = show(&target.given);
+    assert!(!target.seeds.is_empty(), "{name}: no seed files");
+    let cases = target.cases * scale();
     let worker = std::thread::Builder::new()
         .name(format!("fuzz-{name}"))
         .spawn(move || {
             let mut rng = Rng::new(seed);
             for case in 0..cases {
-                let base = &seeds[case % seeds.len()];
-                let bytes = mutate(&mut rng, base, kind);
-                std::fs::write(&file, &bytes).expect("write the fuzz input");
+                let base = &target.seeds[case % target.seeds.len()];
+                let bytes = mutate(&mut rng, base, target.kind);
+                std::fs::write(&target.file, &bytes).expect("write the fuzz input");
                 LARGEST.with(|l| l.set(0));
                 let started = Instant::now();
-                let result = std::panic::catch_unwind(AssertUnwindSafe(&load));
+                let result = std::panic::catch_unwind(AssertUnwindSafe(|| load(&target.given)));
                 let seconds = started.elapsed().as_secs_f64();
                 let largest = LARGEST.with(|l| l.get());
                 let result = match result {
@@ -749,13 +781,11 @@ fn npy_readers_survive_crafted_files() {
     }
     let file = dir.join("case.npy");
     let target = |name, cases| Target::file(name, Kind::Npy, seeds.clone(), file.clone(), cases);
-    let f = file.clone();
-    fuzz(&dir, target("npy-volume", 2000), 11, move || {
-        verdict(read_volume(&f), sane_volume)
+    fuzz(&dir, target("npy-volume", 2000), 11, |f| {
+        verdict(read_volume(f), sane_volume)
     });
-    let f = file.clone();
-    fuzz(&dir, target("npy-array", 1000), 12, move || {
-        verdict(read_npy(&f), |(shape, data)| {
+    fuzz(&dir, target("npy-array", 1000), 12, |f| {
+        verdict(read_npy(f), |(shape, data)| {
             let n = shape.iter().try_fold(1usize, |a, &d| a.checked_mul(d));
             (n != Some(data.len())).then(|| format!("shape {shape:?} with {} values", data.len()))
         })
@@ -791,13 +821,11 @@ fn png_loaders_survive_crafted_files() {
 
     let file = dir.join("case.png");
     let target = |name, cases| Target::file(name, Kind::Png, seeds.clone(), file.clone(), cases);
-    let f = file.clone();
-    fuzz(&dir, target("png-rgb", 1500), 21, move || {
-        verdict(load_rgb(&f), sane_image(3))
+    fuzz(&dir, target("png-rgb", 1500), 21, |f| {
+        verdict(load_rgb(f), sane_image(3))
     });
-    let f = file.clone();
-    fuzz(&dir, target("png-gray", 1000), 22, move || {
-        verdict(load_gray(&f), sane_image(1))
+    fuzz(&dir, target("png-gray", 1000), 22, |f| {
+        verdict(load_gray(f), sane_image(1))
     });
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -821,40 +849,31 @@ fn sample_folders_survive_crafted_photos_and_knot_markers() {
         photos: true,
         arl: true,
     };
-    let s = sample.clone();
     fuzz(
         &dir,
-        Target {
-            name: "sample-knot-marker",
-            names: show(&sample),
-            kind: Kind::Png,
-            seeds: seeds.clone(),
-            file: sample.join("C_knot.png"),
-            cases: 600,
-        },
+        Target::in_folder(
+            "sample-knot-marker",
+            Kind::Png,
+            seeds.clone(),
+            &sample,
+            "C_knot.png",
+            600,
+        ),
         31,
-        move || {
-            verdict(Sample::load(&s, &Face::ALL, needs), |sample| {
+        move |s| {
+            verdict(Sample::load(s, &Face::ALL, needs), |sample| {
                 let n = sample.knot_markers.len();
                 (n > 6 * 8).then(|| format!("{n} knot markers (at most 8 per face)"))
             })
         },
     );
     std::fs::remove_file(sample.join("C_knot.png")).unwrap();
-    let s = sample.clone();
     fuzz(
         &dir,
-        Target {
-            name: "sample-photo",
-            names: show(&sample),
-            kind: Kind::Png,
-            seeds,
-            file: sample.join("B_col.png"),
-            cases: 400,
-        },
+        Target::in_folder("sample-photo", Kind::Png, seeds, &sample, "B_col.png", 400),
         32,
-        move || {
-            verdict(Sample::load(&s, &[Face::B], needs), |sample| {
+        move |s| {
+            verdict(Sample::load(s, &[Face::B], needs), |sample| {
                 (sample.size < 16).then(|| format!("a {} px sample", sample.size))
             })
         },
@@ -889,16 +908,14 @@ fn fuzz_config<T: serde::Serialize + PartialEq + std::fmt::Debug + 'static>(
     seed: u64,
     load: fn(&Path) -> xylem::Result<T>,
 ) {
-    let seeds = config_seeds(files, load);
     let file = dir.join(format!("{name}.toml"));
     let copy = dir.join(format!("{name}-copy.toml"));
-    let f = file.clone();
     fuzz(
         dir,
-        Target::file(name, Kind::Text, seeds, file, cases),
+        Target::file(name, Kind::Text, config_seeds(files, load), file, cases),
         seed,
-        move || {
-            verdict(load(&f), |value| {
+        move |f| {
+            verdict(load(f), |value| {
                 let text = xylem::config::to_toml(value).ok()?;
                 std::fs::write(&copy, &text).unwrap();
                 match load(&copy) {
@@ -984,13 +1001,17 @@ fn config_loaders_survive_crafted_files() {
     )
     .unwrap();
     let seeds = vec![read(&t2d)];
-    let file = dir.join("t2d.toml");
-    let f = file.clone();
     fuzz(
         &dir,
-        Target::file("texture2d-config", Kind::Text, seeds, file, 500),
+        Target::file(
+            "texture2d-config",
+            Kind::Text,
+            seeds,
+            dir.join("t2d.toml"),
+            500,
+        ),
         47,
-        move || verdict(Texture2dConfig::load(&f), any),
+        |f| verdict(Texture2dConfig::load(f), any),
     );
     // A run record (`RUN/run.toml`) compared with a fresh one.
     let record = Provenance::default()
@@ -1001,13 +1022,11 @@ fn config_loaders_survive_crafted_files() {
     let rec = dir.join("run-seed.toml");
     record.check_or_record(&rec, false).unwrap();
     let seeds = vec![read(&rec)];
-    let file = dir.join("run.toml");
-    let f = file.clone();
     fuzz(
         &dir,
-        Target::file("run-record", Kind::Text, seeds, file, 400),
+        Target::file("run-record", Kind::Text, seeds, dir.join("run.toml"), 400),
         48,
-        move || verdict(record.check_or_record(&f, true), any),
+        move |f| verdict(record.check_or_record(f, true), any),
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -1031,25 +1050,17 @@ fn nrrd_and_mitsuba_readers_survive_crafted_files() {
         xylem::export::mitsuba::write_vol(&p, &v).unwrap();
         vol.push(read(&p));
     }
-    let file = dir.join("case.nrrd");
-    let f = file.clone();
     fuzz(
         &dir,
-        Target::file("nrrd", Kind::Nrrd, nrrd, file, 1500),
+        Target::file("nrrd", Kind::Nrrd, nrrd, dir.join("case.nrrd"), 1500),
         51,
-        move || verdict(xylem::export::nrrd::read_nrrd(&f), sane_volume),
+        |f| verdict(xylem::export::nrrd::read_nrrd(f), sane_volume),
     );
-    let file = dir.join("case.vol");
-    let f = file.clone();
     fuzz(
         &dir,
-        Target::file("mitsuba-vol", Kind::Binary, vol, file, 1500),
+        Target::file("mitsuba-vol", Kind::Binary, vol, dir.join("case.vol"), 1500),
         52,
-        move || {
-            verdict(xylem::export::mitsuba::read_vol(&f), |(v, _)| {
-                sane_volume(v)
-            })
-        },
+        |f| verdict(xylem::export::mitsuba::read_vol(f), |(v, _)| sane_volume(v)),
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -1076,22 +1087,21 @@ fn model_and_checkpoint_loaders_survive_crafted_files() {
     let meta_dir = dir.join("meta");
     copy_dir(&model, &meta_dir);
     let seeds = vec![read(&model.join("model.toml"))];
-    let d = meta_dir.clone();
     fuzz(
         &dir,
-        Target {
-            name: "model-toml",
-            names: show(&meta_dir),
-            kind: Kind::Text,
+        Target::in_folder(
+            "model-toml",
+            Kind::Text,
             seeds,
-            file: meta_dir.join("model.toml"),
-            cases: 700,
-        },
+            &meta_dir,
+            "model.toml",
+            700,
+        ),
         61,
-        move || match ModelMeta::load(&d) {
+        |d| match ModelMeta::load(d) {
             Err(e) => Verdict::Refused(e.to_string()),
             Ok(_) => verdict(
-                TrainedModel::load(&d, &DeviceKind::Flex.device()),
+                TrainedModel::load(d, &DeviceKind::Flex.device()),
                 sane_model,
             ),
         },
@@ -1103,22 +1113,21 @@ fn model_and_checkpoint_loaders_survive_crafted_files() {
     let seeds = vec![read(&model.join("model.bpk"))];
     let hashed_dir = dir.join("bpk-hashed");
     copy_dir(&model, &hashed_dir);
-    let d = hashed_dir.clone();
     let original = read(&model.join("model.bpk"));
     fuzz(
         &dir,
-        Target {
-            name: "model-bpk-hashed",
-            names: show(&hashed_dir),
-            kind: Kind::Binary,
-            seeds: seeds.clone(),
-            file: hashed_dir.join("model.bpk"),
-            cases: 300,
-        },
+        Target::in_folder(
+            "model-bpk-hashed",
+            Kind::Binary,
+            seeds.clone(),
+            &hashed_dir,
+            "model.bpk",
+            300,
+        ),
         62,
-        move || {
+        move |d| {
             let changed = read(&d.join("model.bpk")) != original;
-            verdict(TrainedModel::load(&d, &DeviceKind::Flex.device()), |_| {
+            verdict(TrainedModel::load(d, &DeviceKind::Flex.device()), |_| {
                 changed.then(|| "damaged weights loaded despite weights_hash".to_string())
             })
         },
@@ -1132,22 +1141,14 @@ fn model_and_checkpoint_loaders_survive_crafted_files() {
         .map(|l| format!("{l}\n"))
         .collect();
     std::fs::write(bpk_dir.join("model.toml"), unhashed).unwrap();
-    let d = bpk_dir.clone();
     fuzz(
         &dir,
-        Target {
-            name: "model-bpk",
-            names: show(&bpk_dir),
-            kind: Kind::Binary,
-            seeds,
-            file: bpk_dir.join("model.bpk"),
-            cases: 700,
-        },
+        Target::in_folder("model-bpk", Kind::Binary, seeds, &bpk_dir, "model.bpk", 700),
         63,
-        move || {
+        |d| {
             // Without the hash, flipped weight bytes load (the hash is what catches them);
             // the invariant is only that what loads has the architecture of model.toml.
-            verdict(TrainedModel::load(&d, &DeviceKind::Flex.device()), |m| {
+            verdict(TrainedModel::load(d, &DeviceKind::Flex.device()), |m| {
                 (!m.model.matches(&m.meta.spec)).then(|| "weights of another shape".to_string())
             })
         },
@@ -1155,13 +1156,17 @@ fn model_and_checkpoint_loaders_survive_crafted_files() {
 
     // fit.toml of the model folder (FitRecord::load).
     let seeds = vec![read(&model.join("fit.toml"))];
-    let file = dir.join("fit.toml");
-    let f = file.clone();
     fuzz(
         &dir,
-        Target::file("model-fit-toml", Kind::Text, seeds, file, 400),
+        Target::file(
+            "model-fit-toml",
+            Kind::Text,
+            seeds,
+            dir.join("fit.toml"),
+            400,
+        ),
         64,
-        move || verdict(FitRecord::load(&f, None), any),
+        |f| verdict(FitRecord::load(f, None), any),
     );
 
     // The checkpoint: progress.toml, pool.npy, loss.csv and optimiser.bpk, each restored
@@ -1179,9 +1184,9 @@ fn model_and_checkpoint_loaders_survive_crafted_files() {
         let root = dir.join(format!("ckpt{i}"));
         copy_dir(&checkpoint, &root.join("checkpoint"));
         let seeds = vec![read(&checkpoint.join(file))];
-        let (r, s, c) = (root.clone(), sample_dir.clone(), cfg.clone());
+        let (s, c) = (sample_dir.clone(), cfg.clone());
         let name: &'static str = Box::leak(format!("checkpoint-{file}").into_boxed_str());
-        let loader = move || {
+        let loader = move |root: &Path| {
             // The trainer lives on the worker thread (built on first use).
             thread_local! {
                 static TRAINER: std::cell::RefCell<Option<Trainer>> =
@@ -1194,7 +1199,7 @@ fn model_and_checkpoint_loaders_survive_crafted_files() {
                     *t = Some(Trainer::new(&c, &data, DeviceKind::Flex).unwrap());
                 }
                 let trainer = t.as_mut().unwrap();
-                verdict(xylem::nca::train::snapshot::load(&r, trainer), |rows| {
+                verdict(xylem::nca::train::snapshot::load(root, trainer), |rows| {
                     (rows.len() < trainer.iteration).then(|| {
                         format!(
                             "{} log rows for a checkpoint at iteration {}",
@@ -1207,14 +1212,14 @@ fn model_and_checkpoint_loaders_survive_crafted_files() {
         };
         fuzz(
             &dir,
-            Target {
+            Target::in_folder(
                 name,
-                names: show(&root),
                 kind,
                 seeds,
-                file: root.join("checkpoint").join(file),
+                &root,
+                Path::new("checkpoint").join(file),
                 cases,
-            },
+            ),
             65 + i as u64,
             loader,
         );

@@ -17,9 +17,7 @@ use xylem::frame::Face;
 use xylem::io::save_png;
 use xylem::sample::{Needs, Sample, parse_faces};
 
-use reliability_support::{
-    Expect, Tally, copy_dir, error, judge_result, judge_run, repo, run, xylem,
-};
+use reliability_support::{Expect, Tally, copy_dir, error, judge_result, repo, xylem};
 
 const PHOTOS_AND_RINGS: Needs = Needs {
     photos: true,
@@ -90,6 +88,11 @@ fn fine(
     }
 }
 
+/// A row's setup that removes `file` from the sample folder.
+fn remove(file: &'static str) -> impl Fn(&Path) + 'static {
+    move |d| std::fs::remove_file(d.join(file)).unwrap()
+}
+
 fn save(img: &Image2, path: &Path) {
     save_png(img, path).unwrap();
 }
@@ -146,7 +149,7 @@ fn damaged_sample_folders_give_clear_errors() {
         ),
         row(
             "one photo missing",
-            |d| std::fs::remove_file(d.join("C_col.png")).unwrap(),
+            remove("C_col.png"),
             error(&["C_col.png", "missing face image"]),
         ),
         row(
@@ -231,7 +234,7 @@ fn damaged_sample_folders_give_clear_errors() {
         ),
         row(
             "ring images missing",
-            |d| std::fs::remove_file(d.join("B_arl.png")).unwrap(),
+            remove("B_arl.png"),
             error(&["B_arl-unet.png", "missing ring localisation image"]),
         ),
         row(
@@ -308,11 +311,7 @@ fn damaged_sample_folders_give_clear_errors() {
         check: Some(Box::new(|s: &Sample| {
             assert!(s.photo(Face::C).is_none() && s.photo(Face::A).is_some());
         })),
-        ..row(
-            "held-out face C missing",
-            |d| std::fs::remove_file(d.join("C_col.png")).unwrap(),
-            Expect::Fine,
-        )
+        ..row("held-out face C missing", remove("C_col.png"), Expect::Fine)
     });
     rows.push(Row {
         needs: Needs {
@@ -423,82 +422,71 @@ fn commands_refuse_damaged_samples_before_working() {
     let field = repo("configs/fields/distorted.toml");
 
     let mut tally = Tally::default();
+    // The command lines, up to `--out`.
+    let os = |words: &[&dyn AsRef<std::ffi::OsStr>]| -> Vec<std::ffi::OsString> {
+        words.iter().map(|w| w.as_ref().to_os_string()).collect()
+    };
+    let fit = |sample: &Path| os(&[&"fit", &"--sample", &sample]);
+    let train = |sample: &Path| {
+        os(&[
+            &"train",
+            &"--sample",
+            &sample,
+            &"--config",
+            &nca,
+            &"--fit",
+            &field,
+        ])
+    };
+    let texture2d = |target: &Path| os(&[&"texture2d", &"--target", &target, &"--steps", &"1"]);
     let cases: Vec<(&str, Vec<std::ffi::OsString>, Expect, &str)> = vec![
         (
             "fit on a black face",
-            vec!["fit".into(), "--sample".into(), black.clone().into()],
+            fit(&black),
             error(&["D_col.png", "black"]),
             "fit-black",
         ),
         (
             "fit on a knot marker with 12 spots",
-            vec!["fit".into(), "--sample".into(), stray.clone().into()],
+            fit(&stray),
             error(&["A_knot.png", "12 marker spots"]),
             "fit-stray",
         ),
         (
             "train on 1x1 faces",
-            vec![
-                "train".into(),
-                "--sample".into(),
-                tiny.clone().into(),
-                "--config".into(),
-                nca.clone().into(),
-                "--fit".into(),
-                field.clone().into(),
-            ],
+            train(&tiny),
             error(&["A_col.png", "is 1x1", "at least 16x16"]),
             "train-tiny",
         ),
         (
             "train on a black face",
-            vec![
-                "train".into(),
-                "--sample".into(),
-                black.clone().into(),
-                "--config".into(),
-                nca.clone().into(),
-                "--fit".into(),
-                field.clone().into(),
-            ],
+            train(&black),
             error(&["D_col.png", "black"]),
             "train-black",
         ),
         (
             "texture2d on a 1x1 target",
-            vec![
-                "texture2d".into(),
-                "--target".into(),
-                dir.join("one.png").into(),
-                "--steps".into(),
-                "1".into(),
-            ],
+            texture2d(&dir.join("one.png")),
             error(&["one.png", "is 1x1", "at least 16x16"]),
             "t2d-one",
         ),
         (
             "texture2d on a folder",
-            vec![
-                "texture2d".into(),
-                "--target".into(),
-                good.clone().into(),
-                "--steps".into(),
-                "1".into(),
-            ],
+            texture2d(&good),
             error(&["good", "not a regular file", "expected a PNG"]),
             "t2d-folder",
         ),
         (
             "run on a missing sample",
-            vec!["run".into(), "--sample".into(), dir.join("nothere").into()],
+            os(&[&"run", &"--sample", &dir.join("nothere")]),
             error(&["nothere"]),
             "run-missing",
         ),
     ];
     for (name, args, expect, out) in cases {
         let target = dir.join(out);
-        let outcome = run(xylem().args(&args).arg("--out").arg(&target));
-        tally.add(judge_run(name, &outcome, &expect));
+        let outcome =
+            tally.judge_call(name, xylem().args(&args).arg("--out").arg(&target), &expect);
         assert_eq!(outcome.code, Some(1), "{name}: {}", outcome.stderr);
         // Nothing but xylem's folder marker may have been written.
         let written: Vec<String> = std::fs::read_dir(&target)

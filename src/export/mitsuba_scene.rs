@@ -22,7 +22,7 @@ use crate::render::RenderConfig;
 use crate::volume::Volume;
 
 /// File name of the colour volume the scene refers to.
-pub const VOLUME_FILE: &str = "color.vol";
+pub(crate) const VOLUME_FILE: &str = "color.vol";
 /// File name of the scene.
 pub const SCENE_FILE: &str = "scene.xml";
 
@@ -40,7 +40,7 @@ fn vec3(v: [f32; 3]) -> String {
 }
 
 /// The scene XML for `cfg`'s cube view.
-pub fn scene_xml(cfg: &RenderConfig, size: SceneSize) -> String {
+pub(crate) fn scene_xml(cfg: &RenderConfig, size: SceneSize) -> String {
     let cam = &cfg.camera;
     let light = &cfg.light;
     let towards_scene = light.direction.map(|c| -c);

@@ -69,14 +69,14 @@ pub fn bar_position(t: f32, n: usize) -> (usize, f32) {
 }
 
 /// Linear interpolation of a bar at t.
-pub fn bar_lookup(bar: &[[f32; 3]], t: f32) -> [f32; 3] {
+pub(crate) fn bar_lookup(bar: &[[f32; 3]], t: f32) -> [f32; 3] {
     let (i, f) = bar_position(t, bar.len());
     std::array::from_fn(|c| bar[i][c] * (1.0 - f) + bar[i + 1][c] * f)
 }
 
 impl WhiteBalance {
     /// Real colour of a white-balanced value seen on `face` (`None`: a cut or volume).
-    pub fn to_real(&self, rgb: [f32; 3], face: Option<Face>) -> [f32; 3] {
+    pub(crate) fn to_real(&self, rgb: [f32; 3], face: Option<Face>) -> [f32; 3] {
         let mean = face.map_or(self.mean, |f| self.face_means[f.index()]);
         std::array::from_fn(|c| rgb[c] * 2.0 * mean[c])
     }
@@ -167,7 +167,7 @@ impl BaseColour {
     }
 
     /// Weight of the knot bar at a field sample (0 on the stem, 1 well inside a knot).
-    pub fn knot_weight(&self, s: &FieldSample) -> f32 {
+    pub(crate) fn knot_weight(&self, s: &FieldSample) -> f32 {
         if self.knot_bar.is_empty() || !s.knot_time.is_finite() {
             return 0.0;
         }
@@ -188,7 +188,7 @@ impl BaseColour {
 
     /// Real colour of a white-balanced base colour as it appears on `face` (offset and that
     /// face's white balance) or in a cut or volume (`None`).
-    pub fn to_real(&self, rgb: [f32; 3], face: Option<Face>) -> [f32; 3] {
+    pub(crate) fn to_real(&self, rgb: [f32; 3], face: Option<Face>) -> [f32; 3] {
         let offset = face.map_or([0.0; 3], |f| self.face_offsets[f.index()]);
         let lit = std::array::from_fn(|c| rgb[c] + offset[c]);
         self.white_balance.to_real(lit, face)

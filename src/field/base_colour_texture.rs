@@ -40,7 +40,7 @@ impl BaseColourTexture {
 /// The base colour as a photo shows it: on `fitted_face` (a face the colour was fitted to)
 /// with that face's white balance and offset; elsewhere (`None`: held-out faces, cuts,
 /// renders) at the sample's white balance, seen with its grain shading.
-pub fn base_colour_as_seen(
+pub(crate) fn base_colour_as_seen(
     field: &GrowthField,
     colour: BaseColour,
     fitted_face: Option<Face>,

@@ -26,7 +26,7 @@ use crate::error::Result;
 const MAX_COORD: f32 = 100.0;
 
 /// Most knots a field may have.
-pub const MAX_KNOTS: usize = 64;
+pub(crate) const MAX_KNOTS: usize = 64;
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -251,12 +251,12 @@ impl PithConfig {
 
 impl GrowthConfig {
     /// Number of entries of the rate grid.
-    pub fn grid_len(&self) -> usize {
+    pub(crate) fn grid_len(&self) -> usize {
         self.grid.iter().product()
     }
 
     /// The range of `min_rate`, here and in the fit that writes it (`fit::config`).
-    pub fn check_min_rate(check: &Checker, min_rate: f32) -> Result<()> {
+    pub(crate) fn check_min_rate(check: &Checker, min_rate: f32) -> Result<()> {
         check.range(
             "min_rate",
             min_rate,

@@ -10,7 +10,7 @@ use super::config::DistortionConfig;
 use crate::rng::Rng;
 
 /// The relative rates (flat, `(ih * n_a + ia) * n_r + ir`) for a grid of `[n_h, n_a, n_r]`.
-pub fn random_rates(cfg: &DistortionConfig, [n_h, n_a, n_r]: [usize; 3]) -> Vec<f32> {
+pub(crate) fn random_rates(cfg: &DistortionConfig, [n_h, n_a, n_r]: [usize; 3]) -> Vec<f32> {
     let mut rng = Rng::substream(cfg.seed, 0x6469_7374); // "dist"
     let mut log_rate = vec![0.0f32; n_h * n_a * n_r];
     for wh in 0..=cfg.height_waves {

@@ -48,7 +48,7 @@ impl GrainShading {
     }
 
     /// Mean real RGB seen on a surface with normal `normal`.
-    pub fn mean_colour(&self, normal: Vec3) -> [f32; 3] {
+    pub(crate) fn mean_colour(&self, normal: Vec3) -> [f32; 3] {
         let w = self.weight(normal);
         std::array::from_fn(|c| (self.side[c] + (self.end[c] - self.side[c]) * w).max(MIN_MEAN))
     }

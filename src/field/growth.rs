@@ -74,7 +74,7 @@ impl GrowthField {
     }
 
     /// The raw stem time t_s at p (before the ring warp).
-    pub fn stem_time(&self, p: Vec3) -> f32 {
+    pub(crate) fn stem_time(&self, p: Vec3) -> f32 {
         match &self.rates {
             None => self.years_per_unit * self.pith.radius(p),
             Some(grid) => self.years_per_unit * grid.integral(&self.pith.cylindrical(p)),
@@ -101,7 +101,7 @@ impl GrowthField {
     }
 
     /// [`GrowthField::sample`] before the ring warp.
-    pub fn raw_sample(&self, p: Vec3) -> FieldSample {
+    pub(crate) fn raw_sample(&self, p: Vec3) -> FieldSample {
         knot_union(&self.knots, p, self.stem_time(p), self.years_per_unit)
     }
 }

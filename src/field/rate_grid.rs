@@ -32,7 +32,7 @@ fn bspline_weights(t: f32) -> [f32; 4] {
 /// The (flat grid column index, weight) pairs of the height/azimuth interpolation: up to
 /// 4 heights x 4 azimuths (repeated indices at the height ends are allowed).
 #[derive(Clone, Copy, Debug)]
-pub struct ColumnWeights {
+pub(crate) struct ColumnWeights {
     pub columns: [usize; 16],
     pub weights: [f32; 16],
     pub len: usize,
@@ -129,7 +129,7 @@ impl RateGrid {
     }
 
     /// Height and azimuth interpolation weights at a point.
-    pub fn column_weights(&self, c: &Cylindrical) -> ColumnWeights {
+    pub(crate) fn column_weights(&self, c: &Cylindrical) -> ColumnWeights {
         let [h0, h1] = self.height_range;
         let last = self.n_h as isize - 1;
         let xh = if self.n_h == 1 {

@@ -20,7 +20,7 @@ pub fn smoothing(a: f32, b: f32, k: f32) -> f32 {
 /// Adaptive exponent (Larsson 2022, section 4.2.1): `k_knot` inside the knot (t_s > t_b, a
 /// sharp knot edge) and `k_stem` outside (a wide distortion), blended over `width` years of
 /// t_delta = t_s - t_b.
-pub fn adaptive_k(t_delta: f32, k_stem: f32, k_knot: f32, width: f32) -> f32 {
+pub(crate) fn adaptive_k(t_delta: f32, k_stem: f32, k_knot: f32, width: f32) -> f32 {
     0.5 * (k_knot - k_stem) * t_delta / (width + t_delta.abs()) + 0.5 * (k_knot + k_stem)
 }
 

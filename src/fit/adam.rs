@@ -48,7 +48,12 @@ impl Adam {
     }
 
     /// One step with a per-parameter step size `lr(i)`.
-    pub fn step_scaled(&mut self, params: &mut [f32], grad: &[f32], lr: impl Fn(usize) -> f32) {
+    pub(crate) fn step_scaled(
+        &mut self,
+        params: &mut [f32],
+        grad: &[f32],
+        lr: impl Fn(usize) -> f32,
+    ) {
         assert_eq!(params.len(), self.m.len(), "Adam parameter count");
         self.t += 1;
         let c1 = 1.0 - self.beta1.powi(self.t);
@@ -67,7 +72,7 @@ impl Adam {
 }
 
 /// Cosine decay from `lr` to `lr * floor` over `total` steps (step in 0..total).
-pub fn cosine_lr(lr: f32, step: usize, total: usize, floor: f32) -> f32 {
+pub(crate) fn cosine_lr(lr: f32, step: usize, total: usize, floor: f32) -> f32 {
     let x = step as f32 / total.max(1) as f32;
     let w = 0.5 * (1.0 + (std::f32::consts::PI * x.min(1.0)).cos());
     lr * (floor + (1.0 - floor) * w)

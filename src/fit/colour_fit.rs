@@ -31,7 +31,7 @@ struct ColourSample {
 
 /// Fits the bars and offsets. `balanced[f]` is the white-balanced photo of face f (for the
 /// faces in `faces`), `g_range` the G range the bars span.
-pub fn fit_base_colour(
+pub(crate) fn fit_base_colour(
     field: &GrowthField,
     balanced: &[Option<Image2>; 6],
     faces: &[Face],

@@ -113,7 +113,7 @@ impl Step2 {
     }
 
     /// Holds knot i's strand near `anchors[i]` with weight `lambda` (`knot_fit::anchor_penalty`).
-    pub fn with_knot_anchors(mut self, anchors: Vec<Vec<Vec3>>, lambda: f32) -> Self {
+    pub(crate) fn with_knot_anchors(mut self, anchors: Vec<Vec<Vec3>>, lambda: f32) -> Self {
         self.anchors = anchors;
         self.lambda_anchor = lambda;
         self

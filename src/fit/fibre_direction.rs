@@ -147,7 +147,7 @@ pub fn measure_fibre_direction(
 /// weighted by (1 - ring image)^2: a ring boundary's own edge is a long line that would read
 /// as fibres on faces the rings cross diagonally (on H11 it tilted the estimate 30 degrees
 /// before this mask; on CN03 and the chestnut sample the mask moves it under 1 degree).
-pub fn face_grain(face: Face, photo: &Image2, rings: Option<&Image2>) -> FaceGrain {
+pub(crate) fn face_grain(face: Face, photo: &Image2, rings: Option<&Image2>) -> FaceGrain {
     let light = photo.with_channels(3).resized(SIDE, SIDE).luminance();
     let weight: Vec<f64> = match rings {
         Some(r) => r

@@ -52,7 +52,7 @@ pub fn eval(map: &[f32], t: f32) -> (f32, f32) {
 }
 
 /// Adds `w` x dM(t)/dM_i to `grad` for the two nodes around t.
-pub fn accumulate_node_gradient(grad: &mut [f32], t: f32, w: f32) {
+pub(crate) fn accumulate_node_gradient(grad: &mut [f32], t: f32, w: f32) {
     let (i, f) = bar_position(t, grad.len());
     grad[i] += w * (1.0 - f);
     grad[i + 1] += w * f;
@@ -60,7 +60,7 @@ pub fn accumulate_node_gradient(grad: &mut [f32], t: f32, w: f32) {
 
 /// Per-node means of `targets` binned by nearest node of their t (the least-squares start of
 /// M). Empty nodes take the value of the nearest filled node; with no data at all, 0.
-pub fn binned_means(ts: &[f32], targets: &[f32], nodes: usize) -> Vec<f32> {
+pub(crate) fn binned_means(ts: &[f32], targets: &[f32], nodes: usize) -> Vec<f32> {
     let mut sum = vec![0.0f64; nodes];
     let mut count = vec![0usize; nodes];
     for (&t, &a) in ts.iter().zip(targets) {

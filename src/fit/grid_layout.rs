@@ -24,7 +24,7 @@ const FULL_CIRCLE_ABOVE: f32 = 300.0 * std::f32::consts::PI / 180.0;
 
 /// The azimuth range `[start, end]` (radians) of the cube around `pith`, or `None` for the
 /// full circle.
-pub fn cube_azimuth_range(pith: &PithAxis) -> Option<[f32; 2]> {
+pub(crate) fn cube_azimuth_range(pith: &PithAxis) -> Option<[f32; 2]> {
     let mut phis = Vec::new();
     for face in Face::ALL {
         for r in 0..WEDGE_SAMPLES {

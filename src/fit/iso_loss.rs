@@ -26,7 +26,7 @@ pub fn median(values: &[f32]) -> f32 {
 }
 
 /// The median of G over each contour.
-pub fn contour_medians(set: &ContourSet, values: &[f32]) -> Vec<f32> {
+pub(crate) fn contour_medians(set: &ContourSet, values: &[f32]) -> Vec<f32> {
     set.ranges
         .iter()
         .map(|&(a, b)| median(&values[a..b]))

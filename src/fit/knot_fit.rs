@@ -48,14 +48,14 @@ pub fn set_knot_params(k: &mut KnotConfig, p: &[f32], speed: bool) {
 }
 
 /// The knots and, for every parameter, the knots with that parameter moved up and down.
-pub struct KnotVariants {
+pub(crate) struct KnotVariants {
     base: Vec<Knot>,
     /// `[param][sign]`: the knot set with knot `param / KNOT_PARAMS`'s parameter moved.
     moved: Vec<[Vec<Knot>; 2]>,
 }
 
 impl KnotVariants {
-    pub fn new(cfgs: &[KnotConfig], pith_dir: Vec3) -> Self {
+    pub(crate) fn new(cfgs: &[KnotConfig], pith_dir: Vec3) -> Self {
         let build = |cfgs: &[KnotConfig]| -> Vec<Knot> {
             cfgs.iter().map(|k| Knot::new(k, pith_dir)).collect()
         };
@@ -82,18 +82,14 @@ impl KnotVariants {
         }
     }
 
-    pub fn knots(&self) -> &[Knot] {
-        &self.base
-    }
-
     /// Number of knot parameters (KNOT_PARAMS per knot).
-    pub fn n_params(&self) -> usize {
+    pub(crate) fn n_params(&self) -> usize {
         self.moved.len()
     }
 
     /// G at p for stem time `stem`, dG/dstem, and (with `d_params` non-empty) dG/dparam into
     /// `d_params`.
-    pub fn eval(&self, p: Vec3, stem: f32, ypu: f32, d_params: &mut [f32]) -> (f32, f32) {
+    pub(crate) fn eval(&self, p: Vec3, stem: f32, ypu: f32, d_params: &mut [f32]) -> (f32, f32) {
         d_params.fill(0.0);
         if self.no_influence(p, stem, ypu) {
             // G = stem here, and the knots' fade is flat (C1) at its edge.

@@ -38,7 +38,7 @@ pub enum KnotMarks {
 
 impl KnotMarks {
     /// The marks of one knot (its markers share a grey value); `None` without markers.
-    pub fn from_markers(markers: &[KnotMarker]) -> Option<Self> {
+    pub(crate) fn from_markers(markers: &[KnotMarker]) -> Option<Self> {
         let points: Vec<Vec3> = markers.iter().map(|m| m.point).collect();
         match points.len() {
             0 => None,
@@ -106,7 +106,7 @@ impl KnotMarks {
 
 /// A marked knot and its radius at the marks.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MarkedKnot {
+pub(crate) struct MarkedKnot {
     pub marks: KnotMarks,
     /// Cube units: the median of the photo estimates at the marks, or the config's radius.
     pub radius: f32,
@@ -115,7 +115,7 @@ pub struct MarkedKnot {
 impl MarkedKnot {
     /// The knot of one group of markers, sized from the photos of the marked faces that are
     /// loaded (`photos` indexed by `Face::index`).
-    pub fn new(
+    pub(crate) fn new(
         markers: &[KnotMarker],
         photos: &[Option<Image2>; 6],
         cfg: &KnotFitConfig,
@@ -137,7 +137,7 @@ impl MarkedKnot {
     }
 
     /// The marked points.
-    pub fn points(&self) -> Vec<Vec3> {
+    pub(crate) fn points(&self) -> Vec<Vec3> {
         match self.marks {
             KnotMarks::Through(a, b) => vec![a, b],
             KnotMarks::Single(a) => vec![a],
@@ -145,12 +145,12 @@ impl MarkedKnot {
     }
 
     /// Distance of `p` from the marked knot ([`KnotMarks::distance`]).
-    pub fn distance(&self, p: Vec3) -> f32 {
+    pub(crate) fn distance(&self, p: Vec3) -> f32 {
         self.marks.distance(p)
     }
 
     /// The initial knot strand given the fitted pith.
-    pub fn initial_knot(&self, pith: &PithAxis) -> KnotConfig {
+    pub(crate) fn initial_knot(&self, pith: &PithAxis) -> KnotConfig {
         self.marks.initial_knot(pith, self.radius)
     }
 }

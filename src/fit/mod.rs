@@ -54,4 +54,5 @@ pub mod write;
 pub use config::{FitConfig, ProceduralFitConfig};
 pub use run::{FitResult, fit_sample};
 pub use synthetic::write_synthetic_sample;
-pub use write::{Display, write_fit};
+pub use write::Display;
+pub(crate) use write::write_fit;

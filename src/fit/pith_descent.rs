@@ -48,7 +48,7 @@ pub fn loss_and_gradient(set: &ContourSet, origin: Vec3, direction: Vec3) -> (f3
 /// The axis through the point of `(origin, direction)` closest to the cube centre, its
 /// direction turned back onto the cone of `max_tilt` (radians) around the y axis if it left
 /// it (the coarse search's domain: faces B and D are end grain by convention).
-pub fn normalised_axis(origin: Vec3, direction: Vec3, max_tilt: f32) -> (Vec3, Vec3) {
+pub(crate) fn normalised_axis(origin: Vec3, direction: Vec3, max_tilt: f32) -> (Vec3, Vec3) {
     let mut v = direction.normalize();
     if v.y < 0.0 {
         v = -v;
@@ -64,7 +64,7 @@ pub fn normalised_axis(origin: Vec3, direction: Vec3, max_tilt: f32) -> (Vec3, V
 /// Adam on (O, V) from `start` for `cfg.iterations` steps, the direction kept within
 /// `cfg.max_tilt_deg` of y; returns the best axis seen and its loss. The origin's step is scaled by the start's distance from the cube centre (at least
 /// 1): a far axis needs large moves to change the ring curvature noticeably.
-pub fn descend(
+pub(crate) fn descend(
     set: &ContourSet,
     start: &PithAxis,
     cfg: &PithFitConfig,

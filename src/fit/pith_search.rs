@@ -26,7 +26,7 @@ pub struct Candidate {
 }
 
 /// Candidate directions: unit vectors within `max_tilt` of +y, about `step` apart.
-pub fn candidate_directions(cfg: &PithFitConfig) -> Vec<Vec3> {
+pub(crate) fn candidate_directions(cfg: &PithFitConfig) -> Vec<Vec3> {
     let step = cfg.direction_step_deg.to_radians();
     let tilts = (cfg.max_tilt_deg / cfg.direction_step_deg).floor() as usize;
     let mut dirs = vec![Vec3::Y];
@@ -46,7 +46,7 @@ pub fn candidate_directions(cfg: &PithFitConfig) -> Vec<Vec3> {
 }
 
 /// All candidate axes: each direction at each distance and position around the cube centre.
-pub fn candidate_axes(cfg: &PithFitConfig) -> Vec<PithAxis> {
+pub(crate) fn candidate_axes(cfg: &PithFitConfig) -> Vec<PithAxis> {
     let mut axes = Vec::new();
     for dir in candidate_directions(cfg) {
         let (e1, e2) = dir.any_orthonormal_pair();
@@ -63,7 +63,7 @@ pub fn candidate_axes(cfg: &PithFitConfig) -> Vec<PithAxis> {
 }
 
 /// Iso-contour loss of the undistorted field around `axis`.
-pub fn axis_loss(set: &ContourSet, axis: &PithAxis) -> f32 {
+pub(crate) fn axis_loss(set: &ContourSet, axis: &PithAxis) -> f32 {
     let radii: Vec<f32> = set.points.iter().map(|&p| axis.radius(p)).collect();
     iso_loss(set, &radii, None)
 }

@@ -209,7 +209,7 @@ impl Targets {
 
 /// A procedural model's colour as the sheets show it: RGB, seen with the fit's grain shading
 /// (`None`: plain).
-pub fn seen_procedural<'a>(
+pub(crate) fn seen_procedural<'a>(
     wood: &'a ProceduralWood,
     white_balance: Option<&WhiteBalance>,
 ) -> GrainShaded<FirstChannels<&'a ProceduralWood>> {

@@ -54,7 +54,7 @@ pub fn ring_peaks(map: &[f32], cfg: &RingPeakConfig) -> Vec<f32> {
 }
 
 /// Median spacing of increasing positions (`None` with fewer than two).
-pub fn median_spacing(peaks: &[f32]) -> Option<f32> {
+pub(crate) fn median_spacing(peaks: &[f32]) -> Option<f32> {
     let gaps: Vec<f32> = peaks.windows(2).map(|w| w[1] - w[0]).collect();
     (!gaps.is_empty()).then(|| super::iso_loss::median(&gaps))
 }

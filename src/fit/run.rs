@@ -81,7 +81,7 @@ pub struct FitResult {
 }
 
 /// Steps a fit with `cfg` reports to the progress callback, for sizing a progress bar.
-pub fn total_steps(cfg: &FitConfig) -> usize {
+pub(crate) fn total_steps(cfg: &FitConfig) -> usize {
     1 + cfg.pith.refine * (cfg.pith.iterations + 1)
         + cfg.pith.refine * (cfg.distortion.trial_iterations + 1)
         + cfg.distortion.iterations

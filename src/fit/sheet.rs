@@ -12,7 +12,7 @@ pub const BACKGROUND: f32 = 0.12;
 const FRAME: usize = 3;
 
 /// The images of one face.
-pub struct SheetRow {
+pub(crate) struct SheetRow {
     pub photo: Option<Image2>,
     pub target: Option<Image2>,
     pub fitted: Image2,
@@ -34,14 +34,14 @@ pub fn overlay(target: &Image2, fitted: &Image2) -> Image2 {
 }
 
 /// The sheet of up to six rows.
-pub fn fit_sheet(rows: &[SheetRow]) -> Image2 {
+pub(crate) fn fit_sheet(rows: &[SheetRow]) -> Image2 {
     let rows: Vec<[Image2; 5]> = rows.iter().map(row_tiles).collect();
     tile_rows(&rows)
 }
 
 /// Rows of tiles (left to right) stacked top to bottom, `GAP` pixels of `BACKGROUND` between
 /// tiles and rows: the layout of this sheet and the localiser's (`rings::sheet`).
-pub fn tile_rows<R: AsRef<[Image2]>>(rows: &[R]) -> Image2 {
+pub(crate) fn tile_rows<R: AsRef<[Image2]>>(rows: &[R]) -> Image2 {
     let lines: Vec<Image2> = rows
         .iter()
         .map(|tiles| Image2::hstack(tiles.as_ref(), GAP, BACKGROUND))

@@ -104,7 +104,7 @@ impl StemBasis {
 }
 
 /// Points per partial sum of a deterministic parallel reduction.
-pub const REDUCE_CHUNK: usize = 4096;
+pub(crate) const REDUCE_CHUNK: usize = 4096;
 
 /// Sums the coefficients of repeated indices (the height interpolation repeats end nodes).
 fn merge_duplicates(entries: &[(usize, f32)]) -> Vec<(usize, f32)> {

@@ -78,7 +78,7 @@ pub fn write_synthetic_sample(dir: &Path, cfg: &FieldConfig, size: usize) -> Res
 }
 
 /// Where a knot's strand (a ray) crosses the cube surface, with the face crossed.
-pub fn surface_crossings(knot: &Knot) -> Vec<(Face, Vec3)> {
+pub(crate) fn surface_crossings(knot: &Knot) -> Vec<(Face, Vec3)> {
     let (o, d) = (knot.origin, knot.dir);
     let (mut t_in, mut t_out) = (f32::NEG_INFINITY, f32::INFINITY);
     for a in 0..3 {

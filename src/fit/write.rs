@@ -30,7 +30,7 @@ pub struct Display {
 
 /// Writes every output of a fit at `size` x `size` pixels. `source` names the sample in the
 /// config headers.
-pub fn write_fit(
+pub(crate) fn write_fit(
     out: &OutputDir,
     result: &FitResult,
     fit_cfg: &FitConfig,
@@ -80,7 +80,7 @@ pub fn write_fit(
 }
 
 /// `loss.csv`: one row per logged iteration.
-pub fn loss_csv(result: &FitResult) -> String {
+pub(crate) fn loss_csv(result: &FitResult) -> String {
     let header = ["stage", "iteration", "total", "iso", "image", "smooth"];
     let rows = result
         .loss_log

@@ -4,7 +4,7 @@
 use super::face::Face;
 
 /// Tile (column, row) of each face in a 4 x 3 grid of face-sized tiles.
-pub fn cross_tile(face: Face) -> (usize, usize) {
+pub(crate) fn cross_tile(face: Face) -> (usize, usize) {
     match face {
         Face::B => (1, 0),
         Face::C => (0, 1),
@@ -16,4 +16,4 @@ pub fn cross_tile(face: Face) -> (usize, usize) {
 }
 
 /// Size of the cross in tiles: (columns, rows).
-pub const CROSS_TILES: (usize, usize) = (4, 3);
+pub(crate) const CROSS_TILES: (usize, usize) = (4, 3);

@@ -10,7 +10,7 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 /// Half the cube side in cube units.
-pub const HALF: f32 = 0.5;
+pub(crate) const HALF: f32 = 0.5;
 
 /// Centimetres per cube unit (the Mokume cubes are 4.0 cm).
 pub const CM_PER_UNIT: f32 = 4.0;
@@ -120,6 +120,6 @@ pub fn pixel_centre(index: usize, n: usize) -> f32 {
 }
 
 /// Voxel centres follow the pixel rule (DESIGN section 2).
-pub fn voxel_centre(index: usize, n: usize) -> f32 {
+pub(crate) fn voxel_centre(index: usize, n: usize) -> f32 {
     pixel_centre(index, n)
 }

@@ -6,7 +6,8 @@ pub mod edges;
 pub mod face;
 pub mod plane;
 
-pub use cross::{CROSS_TILES, cross_tile};
+pub(crate) use cross::{CROSS_TILES, cross_tile};
 pub use edges::{FaceImageTransform, cube_edges, edge_agreement};
-pub use face::{CM_PER_UNIT, Face, HALF, mm, pixel_centre, voxel_centre};
+pub use face::{CM_PER_UNIT, Face, mm, pixel_centre};
+pub(crate) use face::{HALF, voxel_centre};
 pub use plane::{Plane, PlaneSpec};

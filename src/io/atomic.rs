@@ -18,7 +18,7 @@ fn temp_path(path: &Path) -> PathBuf {
 }
 
 /// Writes `path` atomically through `write`, creating parent folders as needed.
-pub fn write_atomic(
+pub(crate) fn write_atomic(
     path: &Path,
     write: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
 ) -> Result<()> {

@@ -16,7 +16,7 @@ fn to_u8(v: f32) -> u8 {
 }
 
 /// Encodes an image as PNG bytes.
-pub fn encode_png(img: &Image2) -> Result<Vec<u8>> {
+pub(crate) fn encode_png(img: &Image2) -> Result<Vec<u8>> {
     let bytes: Vec<u8> = img.data.iter().map(|&v| to_u8(v)).collect();
     let (w, h) = (img.width as u32, img.height as u32);
     let dynamic = match img.channels {

@@ -30,7 +30,7 @@ impl Provenance {
     }
 
     /// Records `path` and the hash of its bytes under `key` (and `key_hash`).
-    pub fn with_file(self, key: &str, path: &Path) -> Result<Self> {
+    pub(crate) fn with_file(self, key: &str, path: &Path) -> Result<Self> {
         let bytes = super::read::read_bytes(path, "a file to record")?;
         Ok(self
             .with(key, absolute(path))
@@ -39,7 +39,7 @@ impl Provenance {
 
     /// Records `dir` and one hash over the names and bytes of its regular files and those
     /// of its `truth/` subfolder (a sample folder: photos, ring images, knot markers).
-    pub fn with_folder(self, key: &str, dir: &Path) -> Result<Self> {
+    pub(crate) fn with_folder(self, key: &str, dir: &Path) -> Result<Self> {
         // A mistyped folder would otherwise be recorded with the hash of nothing.
         if !dir.is_dir() {
             return Err(XylemError::input(
@@ -66,7 +66,7 @@ impl Provenance {
     }
 
     /// Records the hash of `text` under `key` (a built-in config).
-    pub fn with_text(self, key: &str, text: &str) -> Self {
+    pub(crate) fn with_text(self, key: &str, text: &str) -> Self {
         self.with(key, hex(fnv1a(text.as_bytes(), FNV_OFFSET)))
     }
 

@@ -25,7 +25,7 @@ pub fn read_bytes(path: &Path, expected: &str) -> Result<Vec<u8>> {
 }
 
 /// The text of a regular file (UTF-8).
-pub fn read_text(path: &Path, expected: &str) -> Result<String> {
+pub(crate) fn read_text(path: &Path, expected: &str) -> Result<String> {
     check_regular(path, expected)?;
     std::fs::read_to_string(path).map_err(|e| XylemError::io(path, e))
 }

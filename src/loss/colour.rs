@@ -52,7 +52,7 @@ fn six_axes() -> Vec<f32> {
 
 /// A target image's colour statistics.
 #[derive(Debug)]
-pub struct ColourTarget {
+pub(crate) struct ColourTarget {
     sorted: SortedTarget,
     scale: f32,
 }
@@ -64,7 +64,7 @@ fn pixels(image: Tensor<3>) -> Tensor<2> {
 }
 
 impl ColourTarget {
-    pub fn new(image: Tensor<3>, axes: &Tensor<2>) -> Self {
+    pub(crate) fn new(image: Tensor<3>, axes: &Tensor<2>) -> Self {
         let px = pixels(image);
         let (_, cov) = mean_and_covariance(px.clone());
         Self {
@@ -74,7 +74,7 @@ impl ColourTarget {
     }
 
     /// The colour term of `generated` (`[3, H, W]`) against this target, `[1]`.
-    pub fn term(&self, generated: Tensor<3>, axes: &Tensor<2>) -> Tensor<1> {
+    pub(crate) fn term(&self, generated: Tensor<3>, axes: &Tensor<2>) -> Tensor<1> {
         let px = pixels(generated);
         let n = px.dims()[1];
         relative_mse(

@@ -8,7 +8,7 @@ use crate::config::{Checker, ConfigFile};
 use crate::error::Result;
 
 /// The built-in default (the text of `configs/loss/default.toml`).
-pub const DEFAULT_LOSS: &str = include_str!("../../configs/loss/default.toml");
+pub(crate) const DEFAULT_LOSS: &str = include_str!("../../configs/loss/default.toml");
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

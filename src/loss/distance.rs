@@ -6,10 +6,10 @@
 use burn::tensor::Tensor;
 
 /// Added to every scale so a flat target does not divide by zero.
-pub const SCALE_EPS: f32 = 1e-8;
+pub(crate) const SCALE_EPS: f32 = 1e-8;
 
 /// `mean((generated - target)^2) / scale` as a `[1]` tensor.
-pub fn relative_mse<const D: usize>(
+pub(crate) fn relative_mse<const D: usize>(
     generated: Tensor<D>,
     target: Tensor<D>,
     scale: f32,
@@ -21,6 +21,6 @@ pub fn relative_mse<const D: usize>(
 }
 
 /// Mean of the squares of a tensor's values, as a number (for target scales).
-pub fn mean_square<const D: usize>(t: &Tensor<D>) -> f32 {
+pub(crate) fn mean_square<const D: usize>(t: &Tensor<D>) -> f32 {
     t.clone().square().mean().into_scalar::<f32>()
 }

@@ -14,7 +14,7 @@ use super::pyramid::{level_side, pyramid};
 
 /// The fixed feature extractor of a loss instance.
 #[derive(Clone, Debug)]
-pub struct FeatureExtractor {
+pub(crate) struct FeatureExtractor {
     banks: Vec<FilterBank>,
     nonlinearity: Nonlinearity,
     octaves: usize,
@@ -23,7 +23,7 @@ pub struct FeatureExtractor {
 }
 
 impl FeatureExtractor {
-    pub fn new(cfg: &LossConfig, device: &Device) -> Self {
+    pub(crate) fn new(cfg: &LossConfig, device: &Device) -> Self {
         Self {
             banks: filter_banks(&cfg.filters, cfg.seed, device),
             nonlinearity: cfg.filters.nonlinearity,
@@ -34,18 +34,18 @@ impl FeatureExtractor {
     }
 
     /// Number of layers (pyramid levels) an image can have.
-    pub fn layer_count(&self) -> usize {
+    pub(crate) fn layer_count(&self) -> usize {
         self.octaves
     }
 
     /// Features per layer.
-    pub fn channels(&self) -> usize {
+    pub(crate) fn channels(&self) -> usize {
         self.banks.iter().map(|b| b.weights.dims()[0]).sum()
     }
 
     /// Side lengths of the valid feature map of level `level` for an `h` x `w` image, if the
     /// level is used (big enough).
-    pub fn layer_shape(&self, h: usize, w: usize, level: usize) -> Option<(usize, usize)> {
+    pub(crate) fn layer_shape(&self, h: usize, w: usize, level: usize) -> Option<(usize, usize)> {
         let (lh, lw) = (level_side(h, level), level_side(w, level));
         if lh < self.max_kernel || lw < self.max_kernel {
             return None;
@@ -55,19 +55,19 @@ impl FeatureExtractor {
     }
 
     /// Offset of feature pixel (0, 0) in its level: the centre of the largest kernel.
-    pub fn valid_offset(&self) -> usize {
+    pub(crate) fn valid_offset(&self) -> usize {
         (self.max_kernel - 1) / 2
     }
 
     /// Pyramid levels of `image` (`[3, H, W]`), finest first: each `[1, 3, H_l, W_l]`.
-    pub fn levels(&self, image: Tensor<3>) -> Vec<Tensor<4>> {
+    pub(crate) fn levels(&self, image: Tensor<3>) -> Vec<Tensor<4>> {
         let [c, h, w] = image.dims();
         pyramid(image.reshape([1, c, h, w]), self.octaves)
     }
 
     /// The feature layers of `image` (`[3, H, W]`): entry l is level l's features
     /// `[F, N_l]` (N_l valid pixels), or `None` where the level is too small.
-    pub fn layers(&self, image: Tensor<3>) -> Vec<Option<Tensor<2>>> {
+    pub(crate) fn layers(&self, image: Tensor<3>) -> Vec<Option<Tensor<2>>> {
         let [_, h, w] = image.dims();
         let mut levels = self.levels(image).into_iter();
         (0..self.octaves)

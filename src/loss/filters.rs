@@ -25,7 +25,7 @@ fn opponent_axes() -> [[f32; 3]; 2] {
 
 /// One kernel size's filters.
 #[derive(Clone, Debug)]
-pub struct FilterBank {
+pub(crate) struct FilterBank {
     /// Kernel side (odd).
     pub size: usize,
     /// `[F, 3, k, k]`, each filter of unit L2 norm.
@@ -33,7 +33,7 @@ pub struct FilterBank {
 }
 
 /// Builds the banks of `cfg` on `device`, one per kernel size, seeded by `seed`.
-pub fn filter_banks(cfg: &FilterConfig, seed: u64, device: &Device) -> Vec<FilterBank> {
+pub(crate) fn filter_banks(cfg: &FilterConfig, seed: u64, device: &Device) -> Vec<FilterBank> {
     cfg.kernel_sizes
         .iter()
         .enumerate()

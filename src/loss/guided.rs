@@ -178,7 +178,7 @@ impl GuidedLoss {
     }
 
     /// Whether an `h` x `w` patch has at least one feature layer.
-    pub fn usable(&self, h: usize, w: usize) -> bool {
+    pub(crate) fn usable(&self, h: usize, w: usize) -> bool {
         self.features.layer_shape(h, w, 0).is_some()
     }
 

@@ -13,7 +13,7 @@ pub fn image_to_tensor(img: &Image2, device: &Device) -> Tensor<3> {
 }
 
 /// An image with any number of channels as a planar tensor `[C, H, W]`.
-pub fn planar_tensor(img: &Image2, device: &Device) -> Tensor<3> {
+pub(crate) fn planar_tensor(img: &Image2, device: &Device) -> Tensor<3> {
     let (h, w, c) = (img.height, img.width, img.channels);
     let mut planar = vec![0.0f32; c * h * w];
     for (p, px) in img.data.chunks_exact(c).enumerate() {
@@ -38,7 +38,7 @@ pub fn tensor_to_image(t: Tensor<3>) -> Result<Image2> {
 }
 
 /// The values of a tensor, row-major.
-pub fn tensor_values<const D: usize>(t: Tensor<D>) -> Result<Vec<f32>> {
+pub(crate) fn tensor_values<const D: usize>(t: Tensor<D>) -> Result<Vec<f32>> {
     t.into_data()
         .convert::<f32>()
         .try_into_vec::<f32>()

@@ -6,7 +6,7 @@
 use burn::tensor::Tensor;
 
 /// Mean `[F]` and covariance `[F, F]` of `[F, N]` features (divided by N).
-pub fn mean_and_covariance(features: Tensor<2>) -> (Tensor<1>, Tensor<2>) {
+pub(crate) fn mean_and_covariance(features: Tensor<2>) -> (Tensor<1>, Tensor<2>) {
     let [f, n] = features.dims();
     let mean = features.clone().mean_dim(1); // [F, 1]
     let centred = features - mean.clone(); // [F, N]
@@ -19,7 +19,7 @@ pub fn mean_and_covariance(features: Tensor<2>) -> (Tensor<1>, Tensor<2>) {
 
 /// The variance of a projection onto a random unit direction, on average: trace(C) / F.
 /// Used as the scale of mean and sliced-Wasserstein differences.
-pub fn mean_variance(cov: &Tensor<2>) -> f32 {
+pub(crate) fn mean_variance(cov: &Tensor<2>) -> f32 {
     let f = cov.dims()[0];
     let eye = Tensor::<2>::eye(f, &cov.device());
     (cov.clone() * eye).sum().into_scalar::<f32>() / f as f32

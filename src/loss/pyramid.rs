@@ -26,14 +26,14 @@ fn kernel(channels: usize, like: &Tensor<4>) -> Tensor<4> {
 }
 
 /// One level down: `[1, C, H, W]` -> `[1, C, H/2 - 1, W/2 - 1]`.
-pub fn downsample(level: Tensor<4>) -> Tensor<4> {
+pub(crate) fn downsample(level: Tensor<4>) -> Tensor<4> {
     let c = level.dims()[1];
     let k = kernel(c, &level).without_autodiff();
     conv2d(level, k, None, ConvOptions::new([2, 2], [0, 0], [1, 1], c))
 }
 
 /// Side of level `level` of an image side `side` (0 when the level does not exist).
-pub fn level_side(side: usize, level: usize) -> usize {
+pub(crate) fn level_side(side: usize, level: usize) -> usize {
     (0..level).fold(side, |s, _| if s < 4 { 0 } else { (s - 4) / 2 + 1 })
 }
 

@@ -21,7 +21,7 @@ use crate::rng::{Rng, mix64};
 
 /// `count` random unit directions in `features` dimensions, `[P, F]`, from `seed` and the
 /// sub-stream `stream` (the layer, and the call counter when projections are redrawn).
-pub fn random_projections(
+pub(crate) fn random_projections(
     seed: u64,
     stream: u64,
     count: usize,
@@ -39,14 +39,14 @@ pub fn random_projections(
 }
 
 /// Projections of `[F, N]` features on `[P, F]` directions, each row sorted: `[P, N]`.
-pub fn sorted_projections(features: Tensor<2>, projections: Tensor<2>) -> Tensor<2> {
+pub(crate) fn sorted_projections(features: Tensor<2>, projections: Tensor<2>) -> Tensor<2> {
     projections.matmul(features).sort(1)
 }
 
 /// `[P, M]` sorted values resampled at `n` quantile positions `(i + 0.5) / n`: `[P, n]`.
 /// Linear interpolation between order statistics (positions `(j + 0.5) / M`), clamped at the
 /// ends. With `n == M` the values are returned as they are.
-pub fn resample_sorted(sorted: Tensor<2>, n: usize) -> Tensor<2> {
+pub(crate) fn resample_sorted(sorted: Tensor<2>, n: usize) -> Tensor<2> {
     let [_, m] = sorted.dims();
     if m == n {
         return sorted;
@@ -73,13 +73,13 @@ pub fn resample_sorted(sorted: Tensor<2>, n: usize) -> Tensor<2> {
 /// A target's sorted projections `[P, M]`, with its resamplings to the generated sizes seen so
 /// far kept (a training loop asks for the same few sizes every iteration).
 #[derive(Debug)]
-pub struct SortedTarget {
+pub(crate) struct SortedTarget {
     sorted: Tensor<2>,
     resampled: Mutex<HashMap<usize, Tensor<2>>>,
 }
 
 impl SortedTarget {
-    pub fn new(sorted: Tensor<2>) -> Self {
+    pub(crate) fn new(sorted: Tensor<2>) -> Self {
         Self {
             sorted,
             resampled: Mutex::new(HashMap::new()),
@@ -87,7 +87,7 @@ impl SortedTarget {
     }
 
     /// The target quantiles at `n` positions, `[P, n]`.
-    pub fn at(&self, n: usize) -> Tensor<2> {
+    pub(crate) fn at(&self, n: usize) -> Tensor<2> {
         let mut cache = self
             .resampled
             .lock()

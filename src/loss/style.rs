@@ -159,7 +159,7 @@ impl StyleLoss {
     }
 
     /// The smallest side a generated image or target may have (the largest kernel).
-    pub fn min_side(&self) -> usize {
+    pub(crate) fn min_side(&self) -> usize {
         self.cfg
             .filters
             .kernel_sizes
@@ -170,7 +170,7 @@ impl StyleLoss {
     }
 
     /// Whether an `h` x `w` image can be used (as target or generated).
-    pub fn usable(&self, h: usize, w: usize) -> bool {
+    pub(crate) fn usable(&self, h: usize, w: usize) -> bool {
         h >= self.min_side() && w >= self.min_side() && self.features.layer_shape(h, w, 0).is_some()
     }
 

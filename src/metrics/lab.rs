@@ -36,7 +36,7 @@ pub fn srgb_to_lab(rgb: [f32; 3]) -> [f32; 3] {
 }
 
 /// An RGB (or grey) image as a 3-channel Lab image.
-pub fn image_to_lab(img: &Image2) -> Image2 {
+pub(crate) fn image_to_lab(img: &Image2) -> Image2 {
     let rgb = img.with_channels(3);
     let data = rgb
         .data
@@ -52,7 +52,7 @@ pub fn image_to_lab(img: &Image2) -> Image2 {
 }
 
 /// Mean and standard deviation of each Lab channel.
-pub fn lab_stats(lab: &Image2) -> ([f32; 3], [f32; 3]) {
+pub(crate) fn lab_stats(lab: &Image2) -> ([f32; 3], [f32; 3]) {
     let n = (lab.width * lab.height).max(1) as f64;
     let mut sum = [0f64; 3];
     let mut sq = [0f64; 3];
@@ -68,7 +68,7 @@ pub fn lab_stats(lab: &Image2) -> ([f32; 3], [f32; 3]) {
 }
 
 /// `(dE_mean, dE_std)` between two Lab images.
-pub fn colour_differences(reference: &Image2, candidate: &Image2) -> (f32, f32) {
+pub(crate) fn colour_differences(reference: &Image2, candidate: &Image2) -> (f32, f32) {
     let (m1, s1) = lab_stats(reference);
     let (m2, s2) = lab_stats(candidate);
     let dist = |a: [f32; 3], b: [f32; 3]| {

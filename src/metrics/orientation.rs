@@ -15,7 +15,7 @@ const PRE_SIGMA: f32 = 1.0;
 const TENSOR_SIGMA: f32 = 4.0;
 
 /// Double-angle orientation field: (Jxx - Jyy, 2 Jxy) per pixel.
-pub fn orientation_field(img: &Image2) -> Vec<[f32; 2]> {
+pub(crate) fn orientation_field(img: &Image2) -> Vec<[f32; 2]> {
     let scale = img.width as f32 / 256.0;
     let [jxx, jxy, jyy] =
         structure_tensor(&img.luminance(), PRE_SIGMA * scale, TENSOR_SIGMA * scale);
@@ -25,7 +25,7 @@ pub fn orientation_field(img: &Image2) -> Vec<[f32; 2]> {
 }
 
 /// Weighted mean cos(2 delta theta) of two equally sized images.
-pub fn orientation_agreement(reference: &Image2, candidate: &Image2) -> f32 {
+pub(crate) fn orientation_agreement(reference: &Image2, candidate: &Image2) -> f32 {
     let a = orientation_field(reference);
     let b = orientation_field(candidate);
     let (mut dot, mut norm) = (0f64, 0f64);

@@ -91,7 +91,7 @@ impl Metrics {
     }
 
     /// The values as CSV fields in [`METRIC_NAMES`] order.
-    pub fn csv_fields(&self) -> Vec<String> {
+    pub(crate) fn csv_fields(&self) -> Vec<String> {
         self.values().iter().map(|v| v.to_string()).collect()
     }
 }

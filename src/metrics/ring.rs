@@ -31,7 +31,7 @@ impl Default for RingSettings {
 }
 
 /// Band-passed luminance: blur(fine) - blur(coarse).
-pub fn band_pass(img: &Image2, settings: &RingSettings) -> Image2 {
+pub(crate) fn band_pass(img: &Image2, settings: &RingSettings) -> Image2 {
     let scale = img.width as f32 / 256.0;
     let lum = img.luminance();
     let fine = gaussian_blur(&lum, settings.fine_sigma * scale);

@@ -39,7 +39,7 @@ pub struct UnrollGradients {
 }
 
 /// Steps of each segment of an unroll of `steps` (`segment` 0: one segment).
-pub fn segment_lengths(steps: usize, segment: usize) -> Vec<usize> {
+pub(crate) fn segment_lengths(steps: usize, segment: usize) -> Vec<usize> {
     if segment == 0 || segment >= steps {
         return vec![steps];
     }

@@ -27,7 +27,7 @@ const CUBE_MM: f32 = 40.0;
 
 /// The principal axes of the targets' fine-texture colour: variances in descending order and
 /// the unit axes as columns, in the targets' (white-balanced) colour space.
-pub fn fine_texture_axes(targets: &[Option<Image2>]) -> ([f64; 3], DMat3) {
+pub(crate) fn fine_texture_axes(targets: &[Option<Image2>]) -> ([f64; 3], DMat3) {
     let mut moments = [[0.0f64; 3]; 3];
     let mut count = 0usize;
     for target in targets.iter().flatten() {
@@ -72,7 +72,7 @@ pub fn colour_projection(targets: &[Option<Image2>], count: usize) -> Option<[[f
 }
 
 /// `p` applied to every voxel of an RGB tensor `[3, X, Y, Z]` (differentiable).
-pub fn project_tensor(rgb: Tensor<4>, p: &[[f32; 3]; 3], device: &Device) -> Tensor<4> {
+pub(crate) fn project_tensor(rgb: Tensor<4>, p: &[[f32; 3]; 3], device: &Device) -> Tensor<4> {
     let dims = rgb.dims();
     let voxels = dims[1] * dims[2] * dims[3];
     let matrix = tensor_from(p.concat(), [3, 3], device); // [3, 3]

@@ -160,7 +160,7 @@ impl Normalisation {
     }
 
     /// [`Self::colour_tensor`] as plain data `[3, X, Y, Z]`.
-    pub fn colour_data(&self, vols: &CondVolumes) -> Vec<f32> {
+    pub(crate) fn colour_data(&self, vols: &CondVolumes) -> Vec<f32> {
         let n = vols.b.dims.iter().product::<usize>();
         let mut data = vec![0.0f32; 3 * n];
         for (v, rgb) in vols.b.data.chunks_exact(3).enumerate() {
@@ -184,7 +184,7 @@ impl Normalisation {
     }
 
     /// [`Self::cond_tensor`] as plain data `[K, X, Y, Z]`.
-    pub fn cond_data(&self, channels: &[CondChannel], vols: &CondVolumes) -> Vec<f32> {
+    pub(crate) fn cond_data(&self, channels: &[CondChannel], vols: &CondVolumes) -> Vec<f32> {
         let n = vols.g.dims.iter().product::<usize>();
         let width: usize = channels.iter().map(|c| c.width()).sum();
         let mut data = vec![0.0f32; width * n];
@@ -228,7 +228,7 @@ impl Normalisation {
 }
 
 /// Undoes the white balance of `norm` on a white-balanced RGB value.
-pub fn to_photo_colour(norm: &Normalisation, rgb: &mut [f32]) {
+pub(crate) fn to_photo_colour(norm: &Normalisation, rgb: &mut [f32]) {
     for (v, wb) in rgb.iter_mut().zip(norm.white_balance) {
         *v /= wb;
     }

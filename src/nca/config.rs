@@ -86,7 +86,7 @@ pub struct VolumeConfig {
 
 impl VolumeConfig {
     /// Side of the regions trained on: the crop, or the whole grid when the crop is larger.
-    pub fn crop_side(&self) -> usize {
+    pub(crate) fn crop_side(&self) -> usize {
         self.crop.min(self.size)
     }
 }

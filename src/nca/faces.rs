@@ -79,7 +79,7 @@ impl FaceLayout {
 
     /// The plane `depth` voxels inside the region from this face, parallel to it, with the
     /// face image's rows and columns: `[C, rows, cols]`.
-    pub fn extract_at(&self, state: Tensor<4>, region: &Region, depth: usize) -> Tensor<3> {
+    pub(crate) fn extract_at(&self, state: Tensor<4>, region: &Region, depth: usize) -> Tensor<3> {
         let (axis, high) = self.normal;
         let dim = axis + 1;
         let depth = depth.min(region.dims[axis] - 1);
@@ -114,7 +114,7 @@ pub fn face_patches(state: &Tensor<4>, region: &Region, faces: &[Face]) -> Vec<F
 /// Planes parallel to each face in `faces` that `region` touches, `depth` voxels inside,
 /// from a state `[C, X, Y, Z]`, with their own guides from `guide` (`[G, X, Y, Z]`). Each
 /// plane keeps its face's origin: its pixels lie over the same face pixels.
-pub fn inner_patches(
+pub(crate) fn inner_patches(
     state: &Tensor<4>,
     guide: &Tensor<4>,
     region: &Region,

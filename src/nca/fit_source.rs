@@ -28,7 +28,7 @@ use crate::field::{BaseColourTexture, ColourSpace, FieldConfig, GrowthField, rin
 use crate::texture::SolidTexture;
 
 /// File name of the fit inside a model folder.
-pub const FIT_FILE: &str = "fit.toml";
+pub(crate) const FIT_FILE: &str = "fit.toml";
 
 /// A fit: a growth field with its fitted base colour, or (stand-in) a ring colour ramp.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -59,7 +59,7 @@ pub mod unroll;
 pub use cond_channel::CondChannel;
 pub use conditioning::Conditioning;
 pub use config::{FaceLossKind, ModelSpec, TrainConfig};
-pub use faces::{FacePatch, face_patches};
+pub use faces::face_patches;
 pub use model::Nca;
 pub use region::Region;
 pub use train::loss::{FaceLoss, MomentLoss};

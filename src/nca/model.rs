@@ -55,14 +55,6 @@ impl StepInputs {
         }
     }
 
-    /// The same inputs on another device (e.g. an autodiff copy).
-    pub fn to_device(&self, device: &Device) -> Self {
-        Self {
-            constant: self.constant.clone().to_device(device),
-            perception: self.perception,
-        }
-    }
-
     /// The x-slab [start, start + len) of the fixed inputs.
     pub fn slab(&self, start: usize, len: usize) -> Tensor<4> {
         self.constant.clone().narrow(1, start, len)

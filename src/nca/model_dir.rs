@@ -22,8 +22,8 @@ use crate::frame::Face;
 use crate::io::provenance::content_hash;
 use crate::io::{read_bytes, write_bytes_atomic};
 
-pub const WEIGHTS_FILE: &str = "model.bpk";
-pub const META_FILE: &str = "model.toml";
+pub(crate) const WEIGHTS_FILE: &str = "model.bpk";
+pub(crate) const META_FILE: &str = "model.toml";
 
 /// Everything besides the weights that a trained model needs.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

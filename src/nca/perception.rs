@@ -26,9 +26,9 @@ use serde::{Deserialize, Serialize};
 use super::tensors::tensor_from;
 
 /// Number of fixed filters per perceived channel (identity, Sobel x, y, z, Laplacian).
-pub const FILTERS: usize = 5;
+pub(crate) const FILTERS: usize = 5;
 /// Position channels appended to the perception (x, y, z in [-1, 1]).
-pub const POSITION_CHANNELS: usize = 3;
+pub(crate) const POSITION_CHANNELS: usize = 3;
 
 /// How the filters are computed.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -72,13 +72,13 @@ pub fn kernels() -> [[[[f32; 3]; 3]; 3]; FILTERS] {
 
 /// Replicate padding by one voxel on each side of x, y, z: `[C, X, Y, Z]` ->
 /// `[C, X+2, Y+2, Z+2]`.
-pub fn pad_replicate(x: Tensor<4>) -> Tensor<4> {
+pub(crate) fn pad_replicate(x: Tensor<4>) -> Tensor<4> {
     x.pad([(1, 1), (1, 1), (1, 1)], PadMode::Edge)
 }
 
 impl PerceptionImpl {
     /// Perception of an already padded tensor `[C, X+2, Y+2, Z+2]` -> `[5 C, X, Y, Z]`.
-    pub fn perceive_padded(self, padded: Tensor<4>) -> Tensor<4> {
+    pub(crate) fn perceive_padded(self, padded: Tensor<4>) -> Tensor<4> {
         match self {
             PerceptionImpl::Shifted => shifted(padded),
             PerceptionImpl::Conv => grouped_conv(padded),

@@ -225,7 +225,7 @@ impl ValueRange {
     }
 
     /// Fraction of values below 0 or above 1.
-    pub fn outside_fraction(&self) -> f64 {
+    pub(crate) fn outside_fraction(&self) -> f64 {
         self.outside_count as f64 / self.values.max(1) as f64
     }
 }

@@ -32,7 +32,7 @@ pub fn scalar(t: Tensor<1>) -> f32 {
 }
 
 /// `[C, X, Y, Z]` tensor -> `[X, Y, Z, C]` volume.
-pub fn tensor_to_volume(t: Tensor<4>) -> Result<Volume> {
+pub(crate) fn tensor_to_volume(t: Tensor<4>) -> Result<Volume> {
     let [c, x, y, z] = t.dims();
     let planar = to_vec(t)?;
     let n = x * y * z;

@@ -31,7 +31,7 @@ pub fn seed_state(
 }
 
 /// [`seed_state`] as plain data `[C, X, Y, Z]`.
-pub fn seed_data(channels: usize, amplitude: f32, region: &Region, key: u64) -> Vec<f32> {
+pub(crate) fn seed_data(channels: usize, amplitude: f32, region: &Region, key: u64) -> Vec<f32> {
     let [dx, dy, dz] = region.dims;
     let n = dx * dy * dz;
     let mut data = vec![0.0f32; channels * n];

@@ -18,7 +18,7 @@ use crate::volume::Volume;
 use crate::{Result, XylemError};
 
 /// The textures and references of one finished run folder.
-pub struct Compared {
+pub(crate) struct Compared {
     pub fit: FieldConfig,
     /// The NCA's volume, seen with the fit's grain shading.
     pub nca: GrainShaded<Volume>,
@@ -37,7 +37,7 @@ pub struct Compared {
 impl Compared {
     /// Loads the fit and volume of `layout`; `species` names the preset shown on the fitted
     /// field when the sample has no truth of its own.
-    pub fn load(layout: &RunLayout, sample: &Path, species: &str) -> Result<Self> {
+    pub(super) fn load(layout: &RunLayout, sample: &Path, species: &str) -> Result<Self> {
         let fit = FieldConfig::load(&layout.fit_file())?;
         let base = base_colour(&fit, &layout.fit_file())?;
         let nca = GrainShaded::new(

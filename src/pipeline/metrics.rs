@@ -126,7 +126,7 @@ const PHASE_BINS: usize = 10;
 /// photos' curve; `reference` is the sheet's reference column (photos of the faces, true
 /// cuts of a synthetic sample, in `SHEET_ROWS` order). The ring phase everywhere is the
 /// fitted field's.
-pub fn phase_table(
+pub(crate) fn phase_table(
     reference: &[Option<Image2>],
     fit: &FieldConfig,
     textures: &[(&str, &dyn SolidTexture)],

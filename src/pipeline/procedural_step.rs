@@ -20,12 +20,12 @@ use crate::sample::Sample;
 use crate::slice::{slice_face, slice_plane};
 
 /// File name of the fitted procedural config inside a fit folder.
-pub const PROCEDURAL_FILE: &str = "procedural.toml";
+pub(crate) const PROCEDURAL_FILE: &str = "procedural.toml";
 
 /// Fits the procedural model to the fitted faces of `sample` on `field` and writes
 /// `procedural.toml`, `faces/X_procedural.png` and `cuts/cutN_procedural.png` into `dir`
 /// at `size` pixels; says which preset won.
-pub fn fit_and_write_procedural(
+pub(crate) fn fit_and_write_procedural(
     sample: &Sample,
     field: &FieldConfig,
     cfg: &ProceduralFitConfig,

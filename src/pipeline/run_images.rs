@@ -17,7 +17,7 @@ use crate::texture::SolidTexture;
 
 /// `sheet.png`: rows faces A-F, cut1, cut2; columns reference, fitted rings, base colour,
 /// procedural, NCA; tiles of `tile` pixels.
-pub fn write_sheet(layout: &RunLayout, compared: &Compared, tile: usize) -> Result<()> {
+pub(crate) fn write_sheet(layout: &RunLayout, compared: &Compared, tile: usize) -> Result<()> {
     let field = GrowthField::from_config(&compared.fit);
     let rings = RingImage(&field);
     let reference = if compared.synthetic { "truth" } else { "photo" };
@@ -39,7 +39,7 @@ pub fn write_sheet(layout: &RunLayout, compared: &Compared, tile: usize) -> Resu
 
 /// `unfolded.png`: the reference faces (photos, or the synthetic truth) and the NCA's, both
 /// unfolded, side by side; faces without a photo are left grey.
-pub fn write_unfolded(layout: &RunLayout, compared: &Compared, tile: usize) -> Result<()> {
+pub(crate) fn write_unfolded(layout: &RunLayout, compared: &Compared, tile: usize) -> Result<()> {
     let n = tile;
     let faces: Vec<Image2> = Face::ALL
         .iter()
@@ -61,7 +61,7 @@ pub fn write_unfolded(layout: &RunLayout, compared: &Compared, tile: usize) -> R
 
 /// `renders/`: the lit cube of each texture, the carved bowl of the NCA and the procedural
 /// model, and a turntable of the NCA cube; renders of `2 * tile` pixels.
-pub fn write_renders(layout: &RunLayout, compared: &Compared, tile: usize) -> Result<()> {
+pub(crate) fn write_renders(layout: &RunLayout, compared: &Compared, tile: usize) -> Result<()> {
     let cfg = RenderConfig::default_config();
     let n = tile * 2;
     let textures: [(&str, &dyn SolidTexture); 3] = [

@@ -12,7 +12,7 @@ use crate::run_folder::{DONE_MARKER, RunLayout, STAGE_DIRS};
 
 /// Records the run's inputs in a new folder, or checks them against the record of a started
 /// one (the error names every difference).
-pub fn check_or_record(layout: &RunLayout, options: &RunOptions) -> Result<()> {
+pub(super) fn check_or_record(layout: &RunLayout, options: &RunOptions) -> Result<()> {
     let started = STAGE_DIRS.iter().any(|d| layout.path(d).exists());
     provenance(options)?.check_or_record(&layout.record(), started)
 }
@@ -48,11 +48,11 @@ fn provenance(options: &RunOptions) -> Result<Provenance> {
 }
 
 /// Whether the stage in `dir` finished (its completion marker exists).
-pub fn is_done(dir: &Path) -> bool {
+pub(crate) fn is_done(dir: &Path) -> bool {
     dir.join(DONE_MARKER).is_file()
 }
 
 /// Marks the stage in `dir` complete.
-pub fn mark_done(dir: &Path) -> Result<()> {
+pub(crate) fn mark_done(dir: &Path) -> Result<()> {
     write_bytes_atomic(&dir.join(DONE_MARKER), b"complete\n")
 }

@@ -9,7 +9,7 @@ use crate::io::write_bytes_atomic;
 use crate::report::{StageClock, TIMINGS_FILE, Timings};
 use crate::run_folder::RunLayout;
 
-pub struct StageLog {
+pub(crate) struct StageLog {
     path: PathBuf,
     earlier: Option<Timings>,
     now: Timings,
@@ -18,7 +18,7 @@ pub struct StageLog {
 impl StageLog {
     /// Starts this call's table; an unreadable earlier table is reported and replaced
     /// (it only costs the earlier rows of skipped stages).
-    pub fn open(layout: &RunLayout, reporter: &dyn Reporter) -> Self {
+    pub(super) fn open(layout: &RunLayout, reporter: &dyn Reporter) -> Self {
         let path = layout.path(TIMINGS_FILE);
         let earlier = if path.is_file() {
             Timings::read(&path)
@@ -35,14 +35,14 @@ impl StageLog {
     }
 
     /// Records a finished stage and rewrites the table.
-    pub fn finish(&mut self, clock: StageClock, stage: &str, skipped: bool) -> Result<()> {
+    pub(super) fn finish(&mut self, clock: StageClock, stage: &str, skipped: bool) -> Result<()> {
         self.now
             .record(clock.finish(stage, skipped), self.earlier.as_ref());
         write_bytes_atomic(&self.path, self.now.to_csv().as_bytes())
     }
 
     /// This call's rows.
-    pub fn into_timings(self) -> Timings {
+    pub(crate) fn into_timings(self) -> Timings {
         self.now
     }
 }

@@ -18,7 +18,7 @@ use glam::Vec3;
 use super::noise::{floor, hash_units3, lattice_hash};
 
 #[derive(Clone, Copy, Debug)]
-pub struct CylinderCells {
+pub(crate) struct CylinderCells {
     seed: u64,
     /// Cell size (cube units): radial, tangential, along the pith.
     pub size: Vec3,
@@ -31,7 +31,7 @@ pub struct CylinderCells {
 /// A point located in its cell: the cell's hash and the point's offsets from the cell's
 /// inner, first-azimuth, lower corner (cube units).
 #[derive(Clone, Copy, Debug)]
-pub struct CellPoint {
+pub(crate) struct CellPoint {
     pub hash: u64,
     /// Offset along the radius, in [0, size.x).
     pub radial: f32,
@@ -46,7 +46,7 @@ pub struct CellPoint {
 }
 
 impl CylinderCells {
-    pub fn new(seed: u64, size: Vec3) -> Self {
+    pub(crate) fn new(seed: u64, size: Vec3) -> Self {
         Self {
             seed,
             size,
@@ -58,14 +58,14 @@ impl CylinderCells {
 
     /// The shell holding undistorted radius `rho`.
     #[inline]
-    pub fn shell(&self, rho: f32) -> i32 {
+    pub(crate) fn shell(&self, rho: f32) -> i32 {
         floor(rho.max(0.0) * self.inv_radial) as i32
     }
 
     /// The cell of a point at undistorted radius `rho`, azimuth `phi` in [0, 2 pi) and height
     /// `h`.
     #[inline]
-    pub fn locate(&self, rho: f32, phi: f32, h: f32) -> CellPoint {
+    pub(crate) fn locate(&self, rho: f32, phi: f32, h: f32) -> CellPoint {
         self.locate_in_shell(self.shell(rho), rho, phi, h)
     }
 
@@ -73,7 +73,7 @@ impl CylinderCells {
     /// height, with the point's offsets from it; for features longer than a shell, which a
     /// point looks up in the neighbouring shells too.
     #[inline]
-    pub fn locate_in_shell(&self, shell: i32, rho: f32, phi: f32, h: f32) -> CellPoint {
+    pub(crate) fn locate_in_shell(&self, shell: i32, rho: f32, phi: f32, h: f32) -> CellPoint {
         let shell = shell as f32;
         let rho0 = shell * self.size.x;
         let mid = rho0 + 0.5 * self.size.x;
@@ -100,7 +100,7 @@ impl CellPoint {
     /// A feature centre inside the cell keeping a feature of half-extents `half` whole
     /// (radial, tangential, along), from the cell hash.
     #[inline]
-    pub fn centre(&self, size: Vec3, half: Vec3) -> Vec3 {
+    pub(crate) fn centre(&self, size: Vec3, half: Vec3) -> Vec3 {
         let extent = Vec3::new(size.x, self.width, size.z);
         let room = (extent - 2.0 * half).max(Vec3::ZERO);
         half + room * hash_units3(self.hash)
@@ -108,14 +108,14 @@ impl CellPoint {
 
     /// The point's offset from `centre` (radial, tangential, along).
     #[inline]
-    pub fn offset(&self, centre: Vec3) -> Vec3 {
+    pub(crate) fn offset(&self, centre: Vec3) -> Vec3 {
         Vec3::new(self.radial, self.tangential, self.along) - centre
     }
 }
 
 /// Wyvill's kernel (1 - d^2)^3 on the squared normalised distance (0 outside the unit ball).
 #[inline]
-pub fn wyvill(d2: f32) -> f32 {
+pub(crate) fn wyvill(d2: f32) -> f32 {
     if d2 >= 1.0 {
         return 0.0;
     }

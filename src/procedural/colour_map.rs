@@ -13,7 +13,7 @@ use crate::config::Checker;
 use crate::error::Result;
 
 /// Entries of the internal table.
-pub const MAP_LEN: usize = 64;
+pub(crate) const MAP_LEN: usize = 64;
 
 /// A colour map as written in configs.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -63,14 +63,14 @@ impl ColourMapConfig {
 
 /// A 64-entry colour table with linear lookup.
 #[derive(Clone, Debug, PartialEq)]
-pub struct ColourMap {
+pub(crate) struct ColourMap {
     pub entries: [Vec3; MAP_LEN],
 }
 
 impl ColourMap {
     /// Interpolates the control points of a validated config into the table (constant
     /// beyond the first and last stop).
-    pub fn from_config(cfg: &ColourMapConfig) -> Self {
+    pub(crate) fn from_config(cfg: &ColourMapConfig) -> Self {
         let stops = &cfg.stops;
         let entries = std::array::from_fn(|i| {
             let t = i as f32 / (MAP_LEN - 1) as f32;
@@ -90,7 +90,7 @@ impl ColourMap {
 
     /// The colour at t in [0, 1] (clamped), linear between entries.
     #[inline]
-    pub fn sample(&self, t: f32) -> Vec3 {
+    pub(crate) fn sample(&self, t: f32) -> Vec3 {
         let x = t.clamp(0.0, 1.0) * (MAP_LEN - 1) as f32;
         let i = (x as usize).min(MAP_LEN - 2);
         self.entries[i].lerp(self.entries[i + 1], x - i as f32)

@@ -24,7 +24,7 @@ use crate::error::Result;
 use crate::field::{FieldConfig, GrowthConfig, KnotConfig, PithConfig};
 
 /// Most ray layers a species may have (each costs one cell lookup per point).
-pub const MAX_RAY_LAYERS: usize = 4;
+pub(crate) const MAX_RAY_LAYERS: usize = 4;
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -64,7 +64,7 @@ impl KnotColourConfig {
 }
 
 #[derive(Clone, Debug)]
-pub struct KnotColour {
+pub(crate) struct KnotColour {
     map: ColourMap,
     year0: f32,
     inv_span: f32,
@@ -76,7 +76,7 @@ pub struct KnotColour {
 }
 
 impl KnotColour {
-    pub fn new(cfg: &KnotColourConfig) -> Self {
+    pub(crate) fn new(cfg: &KnotColourConfig) -> Self {
         Self {
             map: ColourMap::from_config(&cfg.map),
             year0: cfg.years[0],
@@ -91,7 +91,7 @@ impl KnotColour {
 
     /// How much a point belongs to a knot, in [0, 1].
     #[inline]
-    pub fn mask(&self, s: &FieldSample) -> f32 {
+    pub(crate) fn mask(&self, s: &FieldSample) -> f32 {
         if !s.knot_time.is_finite() {
             return 0.0;
         }
@@ -100,14 +100,14 @@ impl KnotColour {
 
     /// The knot's map colour at a point.
     #[inline]
-    pub fn colour(&self, s: &FieldSample) -> Vec3 {
+    pub(crate) fn colour(&self, s: &FieldSample) -> Vec3 {
         self.map
             .sample(((s.knot_time - self.year0) * self.inv_span).clamp(0.0, 1.0))
     }
 
     /// Weight of the dead-knot outline in [0, 1]: a band just inside a dead knot's edge.
     #[inline]
-    pub fn outline(&self, s: &FieldSample) -> f32 {
+    pub(crate) fn outline(&self, s: &FieldSample) -> f32 {
         if !s.in_dead_knot || self.outline <= 0.0 {
             return 0.0;
         }

@@ -42,7 +42,6 @@ pub mod synthetic;
 pub mod tree;
 pub mod years;
 
-pub use colour_map::{ColourMap, ColourMapConfig};
 pub use config::SpeciesConfig;
 pub use direction::{FibreDirection, WithFibreDirection};
 pub use model::{ProceduralWood, RingTime, WoodSample};

@@ -35,13 +35,13 @@ use crate::texture::SolidTexture;
 
 /// Sub-streams of the species seed, one per random component.
 mod stream {
-    pub const YEARS: u64 = 1;
-    pub const PIGMENT: u64 = 2;
-    pub const FIBRES: u64 = 3;
-    pub const PORES: u64 = 4;
-    pub const FIGURE: u64 = 5;
-    pub const BURL: u64 = 6;
-    pub const RAYS: u64 = 16;
+    pub(crate) const YEARS: u64 = 1;
+    pub(crate) const PIGMENT: u64 = 2;
+    pub(crate) const FIBRES: u64 = 3;
+    pub(crate) const PORES: u64 = 4;
+    pub(crate) const FIGURE: u64 = 5;
+    pub(crate) const BURL: u64 = 6;
+    pub(crate) const RAYS: u64 = 16;
 }
 
 fn stream_seed(seed: u64, stream: u64) -> u64 {
@@ -161,7 +161,7 @@ impl ProceduralWood {
     }
 
     /// The ring time T at `p` (what a synthetic sample's ring images show).
-    pub fn ring_time(&self, p: Vec3) -> f32 {
+    pub(crate) fn ring_time(&self, p: Vec3) -> f32 {
         self.years.time(self.field.value(self.lookup(p)))
     }
 
@@ -171,7 +171,7 @@ impl ProceduralWood {
     }
 
     /// The model at an idealised lookup point.
-    pub fn sample_at(&self, q: Vec3) -> WoodSample {
+    pub(crate) fn sample_at(&self, q: Vec3) -> WoodSample {
         let field = self.field.sample(q);
         let tree = TreePoint::new(&self.field.pith, q);
         let time = self.years.time(field.g + self.phase_offset);

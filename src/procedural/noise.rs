@@ -25,19 +25,19 @@ pub fn floor(x: f32) -> f32 {
 
 /// [`floor`] for each component.
 #[inline]
-pub fn floor3(p: Vec3) -> Vec3 {
+pub(crate) fn floor3(p: Vec3) -> Vec3 {
     Vec3::new(floor(p.x), floor(p.y), floor(p.z))
 }
 
 /// Fractional part x - floor(x), in [0, 1).
 #[inline]
-pub fn fract(x: f32) -> f32 {
+pub(crate) fn fract(x: f32) -> f32 {
     x - floor(x)
 }
 
 /// One hash of a seed and a 3D lattice point.
 #[inline]
-pub fn lattice_hash(seed: u64, i: i32, j: i32, k: i32) -> u64 {
+pub(crate) fn lattice_hash(seed: u64, i: i32, j: i32, k: i32) -> u64 {
     mix64(
         seed ^ (i as i64 as u64).wrapping_mul(KX)
             ^ (j as i64 as u64).wrapping_mul(KY)
@@ -47,7 +47,7 @@ pub fn lattice_hash(seed: u64, i: i32, j: i32, k: i32) -> u64 {
 
 /// Three independent uniform numbers in [0, 1) (21 bits each) from one hash.
 #[inline]
-pub fn hash_units3(h: u64) -> Vec3 {
+pub(crate) fn hash_units3(h: u64) -> Vec3 {
     let bits = mix64(h ^ KZ);
     let unit21 = |shift: u32| ((bits >> shift) & 0x1F_FFFF) as f32 / (1u32 << 21) as f32;
     Vec3::new(unit21(0), unit21(21), unit21(42))
@@ -70,18 +70,6 @@ fn lerp(a: f32, b: f32, t: f32) -> f32 {
     a + (b - a) * t
 }
 
-/// Smooth 1D value noise in [-1, 1] with lattice spacing 1.
-pub fn value1(seed: u64, x: f32) -> f32 {
-    let i = floor(x);
-    let t = fade(x - i);
-    let i = i as i32;
-    lerp(
-        signed(lattice_hash(seed, i, 0, 0)),
-        signed(lattice_hash(seed, i + 1, 0, 0)),
-        t,
-    )
-}
-
 /// Trilinear blend of the 8 lattice corners around a point, with fade weights (u, v, w).
 #[inline]
 fn trilinear(corner: impl Fn(i32, i32, i32) -> f32, u: f32, v: f32, w: f32) -> f32 {
@@ -96,7 +84,7 @@ fn trilinear(corner: impl Fn(i32, i32, i32) -> f32, u: f32, v: f32, w: f32) -> f
 }
 
 /// Smooth 3D value noise in [-1, 1] with lattice spacing 1 (trilinear with quintic fade).
-pub fn value3(seed: u64, p: Vec3) -> f32 {
+pub(crate) fn value3(seed: u64, p: Vec3) -> f32 {
     let f = floor3(p);
     let (i, j, k) = (f.x as i32, f.y as i32, f.z as i32);
     let d = p - f;
@@ -124,7 +112,7 @@ fn grad(h: u64, x: f32, y: f32, z: f32) -> f32 {
 }
 
 /// 3D gradient noise (Perlin 2002) with lattice spacing 1, roughly in [-1, 1].
-pub fn gradient3(seed: u64, p: Vec3) -> f32 {
+pub(crate) fn gradient3(seed: u64, p: Vec3) -> f32 {
     let f = floor3(p);
     let (i, j, k) = (f.x as i32, f.y as i32, f.z as i32);
     let d = p - f;
@@ -154,7 +142,7 @@ pub fn fbm3(seed: u64, p: Vec3, octaves: u32) -> f32 {
 }
 
 /// A vector of three independent [`fbm3`] components (for displacing lookup points).
-pub fn vector_fbm3(seed: u64, p: Vec3, octaves: u32) -> Vec3 {
+pub(crate) fn vector_fbm3(seed: u64, p: Vec3, octaves: u32) -> Vec3 {
     Vec3::new(
         fbm3(mix64(seed ^ 1), p, octaves),
         fbm3(mix64(seed ^ 2), p, octaves),
@@ -193,7 +181,7 @@ mod tests {
         let eps = Vec3::splat(1e-3);
         for n in 0..200 {
             let q = Vec3::new(n as f32 * 0.37, n as f32 * -0.21, n as f32 * 0.13);
-            for v in [gradient3(1, q), value3(1, q), value1(1, q.x), fbm3(1, q, 3)] {
+            for v in [gradient3(1, q), value3(1, q), fbm3(1, q, 3)] {
                 assert!((-1.0..=1.0).contains(&v), "{v}");
             }
             assert!((gradient3(1, q) - gradient3(1, q + eps)).abs() < 0.02);

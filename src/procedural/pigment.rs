@@ -50,7 +50,7 @@ impl PigmentConfig {
 
 /// The 3D noise term of the pigment exponent.
 #[derive(Clone, Debug)]
-pub struct PigmentNoise {
+pub(crate) struct PigmentNoise {
     seed: u64,
     amplitude: f32,
     /// Tree-space point to noise lattice: 1/scale across, 1/(scale stretch) along the grain.
@@ -59,7 +59,7 @@ pub struct PigmentNoise {
 }
 
 impl PigmentNoise {
-    pub fn new(cfg: &PigmentConfig, seed: u64) -> Self {
+    pub(crate) fn new(cfg: &PigmentConfig, seed: u64) -> Self {
         let across = 1.0 / mm(cfg.scale_mm);
         Self {
             seed,
@@ -71,7 +71,7 @@ impl PigmentNoise {
 
     /// Log-exponent offset at a tree point.
     #[inline]
-    pub fn offset(&self, t: &TreePoint) -> f32 {
+    pub(crate) fn offset(&self, t: &TreePoint) -> f32 {
         self.amplitude * fbm3(self.seed, t.frame_point() * self.scale, self.octaves)
     }
 }

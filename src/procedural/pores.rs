@@ -151,7 +151,7 @@ impl Pores {
 
     /// Share of the pore zone's (earlywood) values at a ring phase: 1 inside, 0 after.
     #[inline]
-    pub fn zone_weight(&self, phase: f32) -> f32 {
+    pub(crate) fn zone_weight(&self, phase: f32) -> f32 {
         let [end, soft] = self.zone;
         1.0 - smoothstep(end - soft, end + soft + 1e-6, phase)
     }

@@ -20,7 +20,7 @@ fn scale_map(map: &mut ColourMapConfig, factor: [f32; 3]) {
 impl SpeciesConfig {
     /// Every colour of the config (display sRGB) times `factor` per channel, clamped to
     /// [0, 1]: ring colour maps, pores, rays, burl buds, knot map and outline.
-    pub fn recoloured(&self, factor: [f32; 3]) -> SpeciesConfig {
+    pub(crate) fn recoloured(&self, factor: [f32; 3]) -> SpeciesConfig {
         let mut cfg = self.clone();
         scale_map(&mut cfg.rings.earlywood, factor);
         scale_map(&mut cfg.rings.latewood, factor);

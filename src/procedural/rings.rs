@@ -163,7 +163,7 @@ impl Rings {
 
     /// Position along the colour maps of ring time `time`, in [0, 1].
     #[inline]
-    pub fn map_position(&self, time: f32) -> f32 {
+    pub(crate) fn map_position(&self, time: f32) -> f32 {
         ((time - self.year0) * self.inv_span).clamp(0.0, 1.0)
     }
 

@@ -58,7 +58,7 @@ pub fn knot_crossings(knots: &[KnotConfig]) -> Vec<KnotCrossing> {
 }
 
 /// One marker image per face that has crossings (white, one pixel per crossing).
-pub fn marker_images(crossings: &[KnotCrossing], n: usize) -> Vec<(Face, Image2)> {
+pub(crate) fn marker_images(crossings: &[KnotCrossing], n: usize) -> Vec<(Face, Image2)> {
     let mut images: Vec<(Face, Image2)> = Vec::new();
     for c in crossings {
         let (row, col) = c.face.point_pixel(c.point, n);

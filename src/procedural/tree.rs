@@ -36,7 +36,7 @@ impl TreePoint {
     }
 
     /// The point in the frame (cross.x, cross.y, h), for 3D noise in tree space.
-    pub fn frame_point(&self) -> Vec3 {
+    pub(crate) fn frame_point(&self) -> Vec3 {
         Vec3::new(self.cross.x, self.cross.y, self.h)
     }
 }

@@ -88,7 +88,7 @@ impl YearTable {
 
     /// The pigment exponent offset of the year containing ring time `time`.
     #[inline]
-    pub fn colour_offset(&self, time: f32) -> f32 {
+    pub(crate) fn colour_offset(&self, time: f32) -> f32 {
         let y = super::noise::floor(time);
         if self.colour.is_empty() || y < 0.0 || y >= TABLE_YEARS as f32 {
             return 0.0;

@@ -16,7 +16,7 @@ struct Node {
     count: u32,
 }
 
-pub struct Bvh {
+pub(crate) struct Bvh {
     nodes: Vec<Node>,
     /// Triangle indices in leaf order.
     order: Vec<u32>,
@@ -25,7 +25,7 @@ pub struct Bvh {
 const LEAF_SIZE: usize = 4;
 
 impl Bvh {
-    pub fn build(mesh: &TriMesh) -> Self {
+    pub(crate) fn build(mesh: &TriMesh) -> Self {
         let centroids: Vec<Vec3> = (0..mesh.triangles.len())
             .map(|i| {
                 let [a, b, c] = mesh.triangle(i);
@@ -91,7 +91,7 @@ impl Bvh {
     }
 
     /// Nearest triangle hit: (triangle, t, barycentric u, v).
-    pub fn intersect(
+    pub(crate) fn intersect(
         &self,
         mesh: &TriMesh,
         ray: &Ray,

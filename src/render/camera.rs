@@ -72,7 +72,7 @@ impl Camera {
     }
 
     /// The camera orbited by `angle` radians around the vertical axis through `target`.
-    pub fn orbit(cfg: &CameraConfig, angle: f32) -> CameraConfig {
+    pub(crate) fn orbit(cfg: &CameraConfig, angle: f32) -> CameraConfig {
         let target = Vec3::from(cfg.target);
         let offset = Vec3::from(cfg.eye) - target;
         let rotated = glam::Quat::from_rotation_y(angle) * offset;

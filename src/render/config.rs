@@ -38,7 +38,7 @@ pub struct CarveConfig {
     pub rotate_deg: [f32; 3],
 }
 
-pub const DEFAULT_RENDER: &str = include_str!("../../configs/render/default.toml");
+pub(crate) const DEFAULT_RENDER: &str = include_str!("../../configs/render/default.toml");
 
 impl RenderConfig {
     /// The built-in default (same as `configs/render/default.toml`).

@@ -98,7 +98,7 @@ impl TriMesh {
     /// The uniform scale + translation that fits the mesh's bounding box centred inside the
     /// cube with `margin` (cube units) to spare: the mesh-to-cube transform used to carve the
     /// object from the wood.
-    pub fn fit_into_cube(&self, margin: f32) -> Mat4 {
+    pub(crate) fn fit_into_cube(&self, margin: f32) -> Mat4 {
         let (lo, hi) = self.bounds();
         let extent = (hi - lo).max_element().max(1e-12);
         let scale = (1.0 - 2.0 * margin) / extent;

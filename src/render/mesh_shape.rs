@@ -9,8 +9,7 @@ use super::mesh::TriMesh;
 
 /// A surface hit.
 #[derive(Clone, Copy, Debug)]
-pub struct Hit {
-    pub t: f32,
+pub(crate) struct Hit {
     pub point: Vec3,
     /// Unit shading normal facing the ray origin.
     pub normal: Vec3,
@@ -29,7 +28,7 @@ impl MeshShape {
     }
 
     /// Nearest hit along the ray within (t_min, t_max).
-    pub fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
+    pub(crate) fn intersect(&self, ray: &Ray, t_min: f32, t_max: f32) -> Option<Hit> {
         let (tri, t, u, v) = self.bvh.intersect(&self.mesh, ray, t_min, t_max)?;
         let [a, b, c] = self.mesh.triangle(tri);
         let geometric = (b - a).cross(c - a).normalize();
@@ -46,14 +45,13 @@ impl MeshShape {
             normal = -normal;
         }
         Some(Hit {
-            t,
             point: ray.origin + t * ray.dir,
             normal,
         })
     }
 
     /// Whether anything blocks the segment (for shadows).
-    pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+    pub(crate) fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         self.bvh.intersect(&self.mesh, ray, 1e-4, t_max).is_some()
     }
 }

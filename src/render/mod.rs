@@ -2,17 +2,18 @@
 //! wood (an OBJ mesh), with a perspective camera, key light + ambient, diffuse, clear-coat
 //! and fibre highlights, and stratified anti-aliasing. CPU, parallel over rows.
 
-pub mod bvh;
+pub(crate) mod bvh;
 pub mod camera;
 pub mod config;
 pub mod lathe;
 pub mod mesh;
-pub mod mesh_shape;
+pub(crate) mod mesh_shape;
 pub mod renderer;
 pub mod shading;
 
-pub use camera::{Camera, CameraConfig};
-pub use config::{CarveConfig, RenderConfig};
+pub use camera::Camera;
+pub use camera::CameraConfig;
+pub use config::RenderConfig;
 pub use mesh::TriMesh;
-pub use mesh_shape::MeshShape;
+
 pub use renderer::{Shape, render, turntable};

@@ -118,7 +118,6 @@ fn cube_hit(ray: &Ray) -> Option<Hit> {
     let mut normal = Vec3::ZERO;
     normal[axis] = -ray.dir[axis].signum();
     Some(Hit {
-        t,
         point: ray.origin + t * ray.dir,
         normal,
     })

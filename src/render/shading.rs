@@ -46,7 +46,7 @@ pub struct SurfacePoint {
     pub fibre: Option<Vec3>,
 }
 
-pub fn srgb_to_linear(c: f32) -> f32 {
+pub(crate) fn srgb_to_linear(c: f32) -> f32 {
     let c = c.clamp(0.0, 1.0);
     if c <= 0.04045 {
         c / 12.92
@@ -55,7 +55,7 @@ pub fn srgb_to_linear(c: f32) -> f32 {
     }
 }
 
-pub fn linear_to_srgb(c: f32) -> f32 {
+pub(crate) fn linear_to_srgb(c: f32) -> f32 {
     let c = c.clamp(0.0, 1.0);
     if c <= 0.003_130_8 {
         12.92 * c

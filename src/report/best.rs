@@ -16,7 +16,7 @@ use super::metrics_table::MetricsTable;
 pub const DIGITS: usize = 3;
 
 /// `best[row][column]`: whether that cell is its column's best for its image.
-pub fn best_cells(table: &MetricsTable) -> Vec<Vec<bool>> {
+pub(crate) fn best_cells(table: &MetricsTable) -> Vec<Vec<bool>> {
     let mut best = vec![vec![false; table.header.len()]; table.rows.len()];
     for group in image_groups(table) {
         let candidates: Vec<usize> = group

@@ -47,7 +47,7 @@ const KNOWN: [(&str, &str); 5] = [
 
 /// Every config of `run` that exists. `run` should be canonical, so that paths into it are
 /// recognised in the texts.
-pub fn config_files(run: &Path) -> Vec<ConfigFile> {
+pub(crate) fn config_files(run: &Path) -> Vec<ConfigFile> {
     let mut names: Vec<(String, &'static str)> = Vec::new();
     if run.join(RUN_RECORD).is_file() {
         names.push((
@@ -104,7 +104,7 @@ fn ends_path(c: char) -> bool {
 
 /// `text` with every absolute path replaced: `RUN/rest` inside `run`, `…/parent/name`
 /// elsewhere.
-pub fn relative_paths_only(text: &str, run: &Path) -> String {
+pub(crate) fn relative_paths_only(text: &str, run: &Path) -> String {
     let run = run.to_string_lossy().trim_end_matches('/').to_string();
     let mut out = String::with_capacity(text.len());
     let mut rest = text;

@@ -14,14 +14,14 @@ pub const CUT_COLUMNS: [(&str, &str); 4] = [
 
 /// One cut: its name and, per column of [`CUT_COLUMNS`], the image if the run has it.
 #[derive(Clone, Debug, PartialEq)]
-pub struct CutRow {
+pub(crate) struct CutRow {
     pub cut: String,
     pub images: Vec<Option<PathBuf>>,
 }
 
 /// The cuts of `run` (any `cutN.png` of the truth or of the synthesis), sorted by name,
 /// with the columns that exist for at least one of them.
-pub fn cut_rows(run: &Path) -> (Vec<&'static str>, Vec<CutRow>) {
+pub(crate) fn cut_rows(run: &Path) -> (Vec<&'static str>, Vec<CutRow>) {
     let mut cuts: Vec<String> = ["sample/truth", "synth/cuts"]
         .iter()
         .flat_map(|dir| cut_names(&run.join(dir)))

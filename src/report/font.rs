@@ -5,8 +5,8 @@
 use crate::image2::Image2;
 
 /// Glyph cell size in font pixels (5 wide, 7 tall, plus one column and two rows of spacing).
-pub const ADVANCE: usize = 6;
-pub const LINE: usize = 9;
+pub(crate) const ADVANCE: usize = 6;
+pub(crate) const LINE: usize = 9;
 
 const GLYPHS: &[(char, [&str; 7])] = &[
     (
@@ -346,12 +346,12 @@ fn glyph(c: char) -> &'static [&'static str; 7] {
 }
 
 /// Width in image pixels of `text` drawn at `scale`.
-pub fn text_width(text: &str, scale: usize) -> usize {
+pub(crate) fn text_width(text: &str, scale: usize) -> usize {
     text.chars().count() * ADVANCE * scale
 }
 
 /// Draws `text` with its top-left corner at (row, col), clipped to the image.
-pub fn draw_text(
+pub(crate) fn draw_text(
     img: &mut Image2,
     text: &str,
     row: usize,

@@ -35,12 +35,12 @@ pub fn significant(x: f64, digits: usize) -> String {
 
 /// The value as shown with `digits` significant digits, read back: what a reader compares
 /// when looking for the best cell, so that two cells that read the same rank the same.
-pub fn as_shown(x: f64, digits: usize) -> f64 {
+pub(crate) fn as_shown(x: f64, digits: usize) -> f64 {
     significant(x, digits).parse().unwrap_or(x)
 }
 
 /// A wall time as people say it: `0.421 s`, `12.3 s`, `3 min 05 s`, `2 h 07 min`.
-pub fn duration(seconds: f64) -> String {
+pub(crate) fn duration(seconds: f64) -> String {
     if !seconds.is_finite() || seconds < 0.0 {
         return "n/a".into();
     }

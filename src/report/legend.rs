@@ -16,7 +16,7 @@ pub enum Better {
 
 impl Better {
     /// A short mark for the column header (none for the reference's value).
-    pub fn arrow(self) -> &'static str {
+    pub(crate) fn arrow(self) -> &'static str {
         match self {
             Better::Higher => "\u{2191}",
             Better::Lower => "\u{2193}",
@@ -38,7 +38,7 @@ impl Better {
 
 /// One metric column.
 #[derive(Clone, Copy, Debug)]
-pub struct MetricInfo {
+pub(crate) struct MetricInfo {
     pub name: &'static str,
     pub better: Better,
     pub perfect: &'static str,
@@ -46,7 +46,7 @@ pub struct MetricInfo {
 }
 
 /// Every metric `xylem compare` writes (`metrics::METRIC_NAMES`), in that order.
-pub const METRICS: [MetricInfo; 10] = [
+pub(crate) const METRICS: [MetricInfo; 10] = [
     MetricInfo {
         name: "ring_ncc",
         better: Better::Higher,
@@ -114,16 +114,16 @@ pub const METRICS: [MetricInfo; 10] = [
 ];
 
 /// The legend entry of a column, if it is a known metric.
-pub fn metric_info(name: &str) -> Option<&'static MetricInfo> {
+pub(crate) fn metric_info(name: &str) -> Option<&'static MetricInfo> {
     METRICS.iter().find(|m| m.name == name)
 }
 
 /// Marks a method whose row is the sample's own truth (the procedural model a synthetic
 /// sample was made from): it shows each metric's ceiling and is not ranked.
-pub const TRUTH_MARK: &str = "(truth)";
+pub(crate) const TRUTH_MARK: &str = "(truth)";
 
 /// Whether a `method` cell names the truth rather than a candidate.
-pub fn is_truth_method(method: &str) -> bool {
+pub(crate) fn is_truth_method(method: &str) -> bool {
     method.trim_end().ends_with(TRUTH_MARK)
 }
 

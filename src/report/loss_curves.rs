@@ -13,14 +13,14 @@ use super::plot::{LinePlot, PALETTE, Series};
 
 /// A plot, or why there is none (shown in the page instead of failing it: a run killed
 /// half-way or a damaged loss file should not cost the reader the rest of the report).
-pub type PlotOrNote = Result<LinePlot, String>;
+pub(crate) type PlotOrNote = Result<LinePlot, String>;
 
 /// Iterations per point of the training curve's running mean: about 40 windows over the
 /// run, so the trend shows through the noise of single iterations.
 const SMOOTHING_WINDOWS: usize = 40;
 
 /// The NCA training loss against the iteration, with its running geometric mean.
-pub fn training_plot(path: &Path) -> PlotOrNote {
+pub(crate) fn training_plot(path: &Path) -> PlotOrNote {
     let table = read(path)?;
     let named = |e: String| format!("{}: {e}", path.display());
     let iterations = table.numbers("iteration").map_err(named)?;
@@ -53,7 +53,7 @@ pub fn training_plot(path: &Path) -> PlotOrNote {
 }
 
 /// The fit's total loss, one curve per stage, the stages placed one after another.
-pub fn fit_plot(path: &Path) -> PlotOrNote {
+pub(crate) fn fit_plot(path: &Path) -> PlotOrNote {
     let table = read(path)?;
     let named = |e: String| format!("{}: {e}", path.display());
     let totals = table.numbers("total").map_err(named)?;

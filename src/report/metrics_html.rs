@@ -32,7 +32,7 @@ pub(super) fn metrics_section(page: &mut Page, table: &MetricsTable) {
 
 /// The table: numbers with [`DIGITS`] significant digits, best cells marked `best`, the
 /// first row of each reference image marked so the groups read apart, truth rows marked.
-pub fn metrics_table_html(table: &MetricsTable) -> String {
+pub(crate) fn metrics_table_html(table: &MetricsTable) -> String {
     let best = best_cells(table);
     let image = table.column("image");
     let method = table.column("method");
@@ -93,7 +93,7 @@ fn cell_html(cell: &str, best: bool) -> String {
 
 /// What each metric column of `table` means and which way is better, then how to read the
 /// rows.
-pub fn legend_html(table: &MetricsTable) -> String {
+pub(crate) fn legend_html(table: &MetricsTable) -> String {
     let mut html = String::from(
         "<table id=\"metrics-legend\" class=\"legend\"><tr><th>metric</th><th>better</th>\
          <th>perfect</th><th>what it measures</th></tr>\n",

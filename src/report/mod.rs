@@ -19,8 +19,11 @@ pub mod timings;
 pub mod title;
 
 pub use html::write_report;
-pub use legend::TRUTH_MARK;
+pub(crate) use legend::TRUTH_MARK;
 pub use metrics_table::MetricsTable;
-pub use sheet::{Column, SHEET_ROWS, captioned_row, comparison_sheet, row_plane};
-pub use timings::{StageClock, StageTiming, TIMINGS_FILE, Timings};
+pub(crate) use sheet::row_plane;
+pub use sheet::{Column, SHEET_ROWS, captioned_row, comparison_sheet};
+pub(crate) use timings::StageClock;
+pub use timings::TIMINGS_FILE;
+pub use timings::{StageTiming, Timings};
 pub use title::default_title;

@@ -5,9 +5,9 @@ use std::fmt::Write;
 use std::path::{Path, PathBuf};
 
 /// The xylem that writes the page, so a reader can tell which code made it.
-pub const XYLEM_VERSION: &str = env!("CARGO_PKG_VERSION");
+pub(crate) const XYLEM_VERSION: &str = env!("CARGO_PKG_VERSION");
 /// The git commit xylem was built from (set by build.rs; "unknown" outside a checkout).
-pub const XYLEM_COMMIT: &str = env!("XYLEM_GIT_COMMIT");
+pub(crate) const XYLEM_COMMIT: &str = env!("XYLEM_GIT_COMMIT");
 
 const STYLE: &str = "\
 body{font-family:system-ui,-apple-system,'Segoe UI',sans-serif;margin:0;background:#fafafa;color:#222;line-height:1.4}
@@ -81,7 +81,7 @@ impl Page {
     }
 
     /// A link to a file of the run folder, named by its path in it.
-    pub fn file_link(&self, target: &Path) -> String {
+    pub(crate) fn file_link(&self, target: &Path) -> String {
         format!(
             "<a href=\"{}\"><code>{}</code></a>",
             self.href(target),
@@ -137,7 +137,7 @@ impl Page {
 }
 
 /// Text for HTML content and attribute values.
-pub fn escape(s: &str) -> String {
+pub(crate) fn escape(s: &str) -> String {
     s.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")

@@ -9,7 +9,7 @@ use super::page::escape;
 
 /// One curve.
 #[derive(Clone, Debug)]
-pub struct Series {
+pub(crate) struct Series {
     pub label: String,
     pub points: Vec<(f64, f64)>,
     pub colour: &'static str,
@@ -18,7 +18,7 @@ pub struct Series {
 
 /// A plot: curves, axis labels and the text a screen reader says for it.
 #[derive(Clone, Debug)]
-pub struct LinePlot {
+pub(crate) struct LinePlot {
     pub x_label: String,
     pub y_label: String,
     pub description: String,
@@ -35,7 +35,7 @@ pub struct Axis {
 }
 
 /// Colours of successive series (readable on white, distinct in print).
-pub const PALETTE: [&str; 6] = [
+pub(crate) const PALETTE: [&str; 6] = [
     "#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b",
 ];
 
@@ -61,7 +61,7 @@ fn scaled(m: f64, k: i32) -> f64 {
 /// from decade to decade; narrower data gets ticks at 1, 2 and 5 times powers of ten and
 /// the axis runs between the ticks just outside the data, so a curve that falls from 0.23
 /// to 0.0058 still has about seven labels instead of two.
-pub fn log_axis(min: f64, max: f64) -> Axis {
+pub(crate) fn log_axis(min: f64, max: f64) -> Axis {
     let (mut min, mut max) = (min.min(max), max.max(min));
     if !(min > 0.0 && max.is_finite()) {
         (min, max) = (0.1, 10.0);
@@ -120,7 +120,7 @@ pub fn log_axis(min: f64, max: f64) -> Axis {
 /// A linear axis spanning exactly `[min, max]` (iterations start at 0 and end at the last
 /// one: padding would only suggest data that is not there) with ticks at a 1, 2 or 5 step
 /// giving four to nine labels.
-pub fn linear_axis(min: f64, max: f64) -> Axis {
+pub(crate) fn linear_axis(min: f64, max: f64) -> Axis {
     let (mut min, mut max) = (min.min(max), max.max(min));
     if !(min.is_finite() && max.is_finite()) {
         (min, max) = (0.0, 1.0);
@@ -174,7 +174,7 @@ fn linear_tick_label(v: f64) -> String {
 impl LinePlot {
     /// The plot as an `<svg>` element, or `None` when no point can be drawn (a log axis
     /// cannot show values at or below zero; such points are left out).
-    pub fn to_svg(&self) -> Option<String> {
+    pub(crate) fn to_svg(&self) -> Option<String> {
         let drawable: Vec<(f64, f64)> = self
             .series
             .iter()

@@ -13,7 +13,7 @@ use super::font::{LINE, draw_text, text_width};
 pub const SHEET_ROWS: [&str; 8] = ["A", "B", "C", "D", "E", "F", "cut1", "cut2"];
 
 /// The plane of each sheet row.
-pub fn row_plane(row: usize) -> Plane {
+pub(crate) fn row_plane(row: usize) -> Plane {
     match row {
         0..=5 => Plane::face(Face::ALL[row]),
         6 => Plane::cut1(),

@@ -112,20 +112,20 @@ impl Timings {
 /// Measures one stage: wall time, and the peak resident memory since it started when the
 /// system lets the peak be reset (Linux); otherwise no peak, rather than the peak of
 /// everything that ran before, which would be blamed on this stage.
-pub struct StageClock {
+pub(crate) struct StageClock {
     start: Instant,
     peak_was_reset: bool,
 }
 
 impl StageClock {
-    pub fn start() -> Self {
+    pub(crate) fn start() -> Self {
         Self {
             peak_was_reset: reset_peak_resident().is_some(),
             start: Instant::now(),
         }
     }
 
-    pub fn finish(self, stage: &str, skipped: bool) -> StageTiming {
+    pub(crate) fn finish(self, stage: &str, skipped: bool) -> StageTiming {
         let peak = if self.peak_was_reset {
             peak_resident_bytes()
         } else {

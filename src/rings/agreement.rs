@@ -11,7 +11,7 @@ use crate::image2::Image2;
 /// Pixels of shift forgiven by the correlation and distance accepted for a ring pixel.
 pub const TOLERANCE_PX: usize = 2;
 /// Pixels at the border left out (the U-Net's output is unreliable there).
-pub const BORDER_PX: usize = 5;
+pub(crate) const BORDER_PX: usize = 5;
 /// A band's crest must reach this grey level.
 const CREST_LEVEL: f32 = 0.5;
 
@@ -38,7 +38,7 @@ pub fn agreement(predicted: &Image2, reference: &Image2) -> Agreement {
 }
 
 /// The crest pixels of the bands of a ring image, row-major, border left out.
-pub fn ring_pixels(img: &Image2) -> Vec<bool> {
+pub(crate) fn ring_pixels(img: &Image2) -> Vec<bool> {
     let (w, h) = (img.width, img.height);
     let at = |r: usize, c: usize| img.get(r, c, 0);
     let mut out = vec![false; w * h];

@@ -12,4 +12,4 @@ pub mod source;
 pub use crate::fit::localiser_config::LocaliserConfig;
 pub use agreement::{Agreement, agreement};
 pub use localise::localise;
-pub use source::{RingSource, SampleWithRings, load_with_rings};
+pub use source::{RingSource, load_with_rings};

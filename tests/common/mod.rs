@@ -115,6 +115,14 @@ pub fn run_ok_said(cmd: &mut Command) -> String {
     said
 }
 
+/// Asserts that `text` (an error message, a page) contains every one of `parts`, naming the
+/// first one missing.
+pub fn assert_names(text: &str, parts: &[&str]) {
+    for part in parts {
+        assert!(text.contains(part), "does not name {part:?}:\n{text}");
+    }
+}
+
 /// Runs `cmd`, which must fail; returns its stderr.
 pub fn run_err(cmd: &mut Command) -> String {
     let out = cmd.output().expect("run xylem");

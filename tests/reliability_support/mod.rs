@@ -140,6 +140,13 @@ pub fn judge_run(row: &str, outcome: &Outcome, expect: &Expect) -> Verdict {
     judge(row, outcome.ok(), text, expect)
 }
 
+/// Runs `cmd` and judges it as the row `row`.
+pub fn run_judged(row: &str, cmd: &mut Command, expect: &Expect) -> (Outcome, Verdict) {
+    let outcome = run(cmd);
+    let verdict = judge_run(row, &outcome, expect);
+    (outcome, verdict)
+}
+
 /// Judges a library result.
 pub fn judge_result<T>(row: &str, result: &xylem::Result<T>, expect: &Expect) -> Verdict {
     match result {
@@ -172,8 +179,8 @@ impl Tally {
 
     /// Runs `cmd`, judges it as the row `row` and counts it; returns the outcome.
     pub fn judge_call(&mut self, row: &str, cmd: &mut Command, expect: &Expect) -> Outcome {
-        let outcome = run(cmd);
-        self.add(judge_run(row, &outcome, expect));
+        let (outcome, verdict) = run_judged(row, cmd, expect);
+        self.add(verdict);
         outcome
     }
 

@@ -85,7 +85,7 @@ pub trait Kernels: Simd {
 
 /// Columns of C per gemm tile are `NV * LANES`; every level uses at most 2, so blocks are
 /// multiples of `2 * LANES` cells.
-pub const MAX_NV: usize = 2;
+pub(crate) const MAX_NV: usize = 2;
 
 /// Implements [`Kernels`] for a [`Simd`] token from literal tile sizes, so the constants and
 /// the const generic arguments cannot disagree.

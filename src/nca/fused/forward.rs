@@ -54,7 +54,7 @@ impl<'a> Stepper<'a> {
     }
 
     /// Values of a state buffer: `C * X * Y * Z`.
-    pub fn state_len(&self) -> usize {
+    pub(crate) fn state_len(&self) -> usize {
         self.shapes.state * self.fixed.dims.cells()
     }
 

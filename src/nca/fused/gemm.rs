@@ -173,7 +173,7 @@ pub fn reduce<S: Simd, const RM: usize, const RK: usize>(
 
 /// `lanes[i][l] += sum over lane arrays v of x[i][v LANES + l]` for `rows` rows.
 #[inline(always)]
-pub fn reduce_rows<S: Simd>(
+pub(crate) fn reduce_rows<S: Simd>(
     s: S,
     x: &[f32],
     rows: usize,

@@ -57,7 +57,7 @@ impl FixedInputs {
     }
 
     /// Channel plane `k` of the conditioning, `[X, Y, Z]`.
-    pub fn cond_plane(&self, k: usize) -> &[f32] {
+    pub(crate) fn cond_plane(&self, k: usize) -> &[f32] {
         let n = self.dims.cells();
         &self.cond[k * n..(k + 1) * n]
     }

@@ -17,13 +17,13 @@ pub fn lane(data: &[f32], at: usize) -> &[f32; LANES] {
 
 /// The `LANES` values starting at `at`, mutable.
 #[inline(always)]
-pub fn lane_mut(data: &mut [f32], at: usize) -> &mut [f32; LANES] {
+pub(crate) fn lane_mut(data: &mut [f32], at: usize) -> &mut [f32; LANES] {
     (&mut data[at..at + LANES])
         .try_into()
         .expect("LANES values")
 }
 
 /// `n` rounded up to a multiple of `m`.
-pub fn round_up(n: usize, m: usize) -> usize {
+pub(crate) fn round_up(n: usize, m: usize) -> usize {
     n.div_ceil(m) * m
 }

@@ -19,7 +19,7 @@ use crate::nca::perception::{FILTERS, POSITION_CHANNELS};
 pub const FORWARD_BLOCK: usize = 64;
 /// Cells per block in the backward step: the weight-gradient tiles stay in registers over a
 /// whole block, so larger blocks amortise their flush into the lane buffers.
-pub const BACKWARD_BLOCK: usize = 256;
+pub(crate) const BACKWARD_BLOCK: usize = 256;
 
 /// The sizes of one model on one instruction set.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -59,7 +59,7 @@ impl Shapes {
     }
 
     /// Row of the first position channel among the inputs.
-    pub fn position_row(&self) -> usize {
+    pub(crate) fn position_row(&self) -> usize {
         FILTERS * (self.state + self.cond)
     }
 }
@@ -75,12 +75,12 @@ fn lcm(a: usize, b: usize) -> usize {
 }
 
 /// Columns the gemms run over for a block of `n` cells: whole gemm tiles.
-pub fn gemm_cols(n: usize) -> usize {
+pub(crate) fn gemm_cols(n: usize) -> usize {
     round_up(n, MAX_NV * LANES)
 }
 
 /// Lane arrays covering `n` cells.
-pub fn lane_count(n: usize) -> usize {
+pub(crate) fn lane_count(n: usize) -> usize {
     n.div_ceil(LANES)
 }
 
@@ -106,7 +106,7 @@ impl Dims {
 
 /// Per x-plane, the slices of every row of a `[rows, X, Y, Z]` buffer that belong to it:
 /// `result[x][row]`, each `Y * Z` long. The slices are disjoint, so tasks can own them.
-pub fn planes_mut(buf: &mut [f32], rows: usize, dims: Dims) -> Vec<Vec<&mut [f32]>> {
+pub(crate) fn planes_mut(buf: &mut [f32], rows: usize, dims: Dims) -> Vec<Vec<&mut [f32]>> {
     let n = dims.cells();
     debug_assert_eq!(buf.len(), rows * n);
     let mut planes: Vec<Vec<&mut [f32]>> =

@@ -79,7 +79,7 @@ impl GradLanes {
 /// Forward MLP of a block of `n` cells whose inputs are in `work.inp`: the state change
 /// in `work.out` rows 0..C.
 #[inline(always)]
-pub fn forward_block<K: Kernels>(
+pub(crate) fn forward_block<K: Kernels>(
     k: K,
     shapes: &Shapes,
     packed: &Packed,

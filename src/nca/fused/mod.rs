@@ -39,5 +39,5 @@ pub mod weights;
 pub use adjoint::Gradients;
 pub use forward::Stepper;
 pub use inputs::FixedInputs;
-pub use isa::{Isa, Level};
+pub use isa::Isa;
 pub use weights::MlpWeights;

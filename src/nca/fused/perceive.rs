@@ -19,10 +19,10 @@ use super::layout::{Dims, Shapes};
 use crate::nca::perception::FILTERS;
 
 /// Longest z-piece (cells); at least the largest block.
-pub const MAX_PIECE: usize = 256;
+pub(crate) const MAX_PIECE: usize = 256;
 
 /// The 3 x 3 z-lines around (x, y), replicate-clamped: `[a][b]` is (x + a - 1, y + b - 1).
-pub type Lines<'a> = [[&'a [f32]; 3]; 3];
+pub(crate) type Lines<'a> = [[&'a [f32]; 3]; 3];
 
 /// Offsets of the 3 x 3 z-lines around (x, y) in a channel plane `[X, Y, Z]`,
 /// replicate-clamped: `[a][b]` is line (x + a - 1, y + b - 1).
@@ -41,7 +41,7 @@ pub fn neighbour_offsets(dims: Dims, x: usize, y: usize) -> [[usize; 3]; 3] {
 
 /// The lines at `offsets` (from [`neighbour_offsets`]) of one channel plane, `nz` long.
 #[inline(always)]
-pub fn lines_at<'a>(plane: &'a [f32], offsets: &[[usize; 3]; 3], nz: usize) -> Lines<'a> {
+pub(crate) fn lines_at<'a>(plane: &'a [f32], offsets: &[[usize; 3]; 3], nz: usize) -> Lines<'a> {
     let line = |a: usize, b: usize| &plane[offsets[a][b]..][..nz];
     [
         [line(0, 0), line(0, 1), line(0, 2)],
@@ -78,7 +78,7 @@ impl Default for ForwardScratch {
 
 /// The lines restricted to z in [z0, z0 + len).
 #[inline(always)]
-pub fn slice_lines<'a>(l: &Lines<'a>, z0: usize, len: usize) -> Lines<'a> {
+pub(crate) fn slice_lines<'a>(l: &Lines<'a>, z0: usize, len: usize) -> Lines<'a> {
     let cut = |a: usize, b: usize| &l[a][b][z0..z0 + len];
     [
         [cut(0, 0), cut(0, 1), cut(0, 2)],
@@ -218,7 +218,7 @@ pub fn pieces(dims: Dims, q0: usize, n: usize) -> impl Iterator<Item = Piece> {
 /// columns from n to `cols` are zero (rows beyond the inputs are never written and stay zero).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-pub fn fill_inputs(
+pub(crate) fn fill_inputs(
     shapes: &Shapes,
     fixed: &FixedInputs,
     state: &[f32],

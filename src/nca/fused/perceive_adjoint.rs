@@ -20,7 +20,7 @@ use super::perceive::{Lines, MAX_PIECE, slice_lines, window};
 use crate::nca::perception::FILTERS;
 
 /// Scratch values per xy line of a group of pieces (24 KB for the six).
-pub const GROUP_FLOATS: usize = 1024;
+pub(crate) const GROUP_FLOATS: usize = 1024;
 const _: () = assert!(MAX_PIECE + 2 <= GROUP_FLOATS, "a piece fits a group");
 
 /// xy combinations of a group of pieces, each piece with one value beyond each end
@@ -28,7 +28,7 @@ const _: () = assert!(MAX_PIECE + 2 <= GROUP_FLOATS, "a piece fits a group");
 /// the xy stage before any of it goes through the z stage: reading values back right
 /// after writing them, at the one-float shifts the z stage needs, stalled on store
 /// forwarding (measured: 17% of the adjoint on one load).
-pub struct AdjointScratch {
+pub(crate) struct AdjointScratch {
     /// Sobel x and y parts (both get [1,2,1] along z).
     sxy: Vec<f32>,
     /// Sobel z part (gets D^T along z).
@@ -118,7 +118,7 @@ fn xy_adjoint(
 /// `signs` from [`border_signs`] for x and y.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-pub fn adjoint_xy(
+pub(crate) fn adjoint_xy(
     fields: &[Lines; FILTERS],
     signs: [f32; 4],
     z0: usize,
@@ -143,7 +143,7 @@ pub fn adjoint_xy(
 /// `out[j] = g[j] + identity[j] + (the filters' adjoints)` for j < len, `identity` being the
 /// identity filter's gradient on the piece.
 #[inline(always)]
-pub fn adjoint_z(
+pub(crate) fn adjoint_z(
     t: &AdjointScratch,
     o: usize,
     len: usize,
@@ -185,7 +185,7 @@ pub fn adjoint_z(
 
 /// A piece of a z-line of an x-plane and its place in the group scratch.
 #[derive(Clone, Copy, Debug)]
-pub struct GroupPiece {
+pub(crate) struct GroupPiece {
     pub y: usize,
     pub z0: usize,
     pub len: usize,
@@ -195,7 +195,7 @@ pub struct GroupPiece {
 
 /// The pieces of all z-lines of an x-plane (`ny` lines of `nz` cells), in groups that fit
 /// the scratch.
-pub fn piece_groups(ny: usize, nz: usize) -> Vec<Vec<GroupPiece>> {
+pub(crate) fn piece_groups(ny: usize, nz: usize) -> Vec<Vec<GroupPiece>> {
     let mut groups: Vec<Vec<GroupPiece>> = vec![Vec::new()];
     let mut used = 0;
     for y in 0..ny {
@@ -218,7 +218,7 @@ pub fn piece_groups(ny: usize, nz: usize) -> Vec<Vec<GroupPiece>> {
 }
 
 /// Start and length of the z-pieces of a line of `nz` cells.
-pub fn piece_starts(nz: usize) -> impl Iterator<Item = (usize, usize)> {
+pub(crate) fn piece_starts(nz: usize) -> impl Iterator<Item = (usize, usize)> {
     (0..nz)
         .step_by(MAX_PIECE)
         .map(move |z0| (z0, MAX_PIECE.min(nz - z0)))

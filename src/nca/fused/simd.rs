@@ -32,7 +32,7 @@ pub trait Simd: Copy {
 
 /// Plain arrays, no FMA: the baseline of any target (SSE2 on x86-64).
 #[derive(Clone, Copy)]
-pub struct Portable;
+pub(crate) struct Portable;
 
 impl Simd for Portable {
     type V = [f32; LANES];

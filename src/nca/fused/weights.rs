@@ -27,7 +27,7 @@ pub struct MlpWeights {
 
 impl MlpWeights {
     /// The parameters of a burn model (on any device, with or without autodiff).
-    pub fn from_model(model: &Nca) -> Result<Self> {
+    pub(crate) fn from_model(model: &Nca) -> Result<Self> {
         let [hidden, inputs] = model.w1.dims();
         let [state, h2] = model.w2.dims();
         let w = Self {

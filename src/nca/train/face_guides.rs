@@ -10,7 +10,7 @@ use crate::slice::slice_face;
 use crate::texture::SolidTexture;
 
 /// Guide channels per pixel.
-pub const GUIDE_CHANNELS: usize = 2;
+pub(crate) const GUIDE_CHANNELS: usize = 2;
 
 /// The phase guide of `face` at `n` x `n` pixels.
 pub fn phase_guide(growth: &dyn SolidTexture, face: Face, n: usize) -> Image2 {

@@ -12,7 +12,7 @@ use crate::loss::{GuidedLoss, GuidedPatch, GuidedTarget};
 use crate::nca::config::TrainConfig;
 use crate::nca::faces::FacePatch;
 
-pub struct GuidedFaceLoss {
+pub(crate) struct GuidedFaceLoss {
     loss: GuidedLoss,
     targets: Vec<GuidedTarget>,
     /// Index into `targets` of each face (file order), `None` for faces without a photo.
@@ -20,7 +20,7 @@ pub struct GuidedFaceLoss {
 }
 
 impl GuidedFaceLoss {
-    pub fn new(cfg: &TrainConfig, data: &TrainData, device: &Device) -> Result<Self> {
+    pub(crate) fn new(cfg: &TrainConfig, data: &TrainData, device: &Device) -> Result<Self> {
         let loss = GuidedLoss::new(&cfg.loss.style, &cfg.loss.guided, device);
         let side = cfg.volume.crop_side();
         if !loss.usable(side, side) {

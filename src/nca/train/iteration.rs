@@ -197,7 +197,7 @@ impl Trainer {
     }
 
     /// The model without autodiff (for saving and synthesis).
-    pub fn plain_model(&self) -> Nca {
+    pub(crate) fn plain_model(&self) -> Nca {
         self.model.valid()
     }
 
@@ -455,7 +455,7 @@ fn normalise_gradients(model: &Nca, mut grads: GradientsParams) -> GradientsPara
 }
 
 /// Checks the model can be trained: at least one used face must have a target.
-pub fn check_data(data: &TrainData) -> Result<()> {
+pub(crate) fn check_data(data: &TrainData) -> Result<()> {
     if data.targets.iter().all(Option::is_none) {
         return Err(crate::XylemError::input(
             "training data",

@@ -48,7 +48,7 @@ pub fn write_csv(path: &Path, rows: &[LossRow]) -> Result<()> {
 }
 
 /// Reads a log written by [`write_csv`].
-pub fn read_csv(path: &Path) -> Result<Vec<LossRow>> {
+pub(crate) fn read_csv(path: &Path) -> Result<Vec<LossRow>> {
     let text = std::fs::read_to_string(path).map_err(|e| XylemError::io(path, e))?;
     let bad = |line: usize, msg: &str| {
         XylemError::input(

@@ -28,4 +28,4 @@ pub mod snapshot;
 pub mod style_face_loss;
 pub mod targets;
 
-pub use iteration::{TrainData, Trainer, adam, check_data};
+pub use iteration::{TrainData, Trainer, adam};

@@ -7,7 +7,7 @@ use crate::image2::Image2;
 const MARGIN: usize = 8;
 
 /// Plots `values` (one per iteration) into a `width` x `height` RGB image.
-pub fn loss_plot(values: &[f32], width: usize, height: usize) -> Image2 {
+pub(crate) fn loss_plot(values: &[f32], width: usize, height: usize) -> Image2 {
     let mut img = Image2::filled(width, height, 3, 1.0);
     let logs: Vec<f32> = values
         .iter()

@@ -21,7 +21,7 @@ pub struct Slot {
 }
 
 /// A slot as plain data: region, state shape `[C, X, Y, Z]`, values.
-pub type PlainSlot = (Region, [usize; 4], Vec<f32>);
+pub(crate) type PlainSlot = (Region, [usize; 4], Vec<f32>);
 
 #[derive(Clone, Debug, Default)]
 pub struct Pool {

@@ -23,9 +23,9 @@ use crate::nca::config::TrainConfig;
 use crate::nca::fit_source::FIT_FILE;
 use crate::nca::model_dir::{ModelMeta, WEIGHTS_FILE, save_weights, weights_hash};
 
-pub const CONFIG_FILE: &str = "train.toml";
-pub const LOSS_FILE: &str = "loss.csv";
-pub const PLOT_FILE: &str = "loss.png";
+pub(crate) const CONFIG_FILE: &str = "train.toml";
+pub(crate) const LOSS_FILE: &str = "loss.csv";
+pub(crate) const PLOT_FILE: &str = "loss.png";
 
 /// How to run.
 #[derive(Clone, Debug, Default)]
@@ -137,6 +137,6 @@ pub fn run_training(
 }
 
 /// The config a model folder was trained with (for `--resume`).
-pub fn saved_config(root: &Path) -> Result<TrainConfig> {
+pub(crate) fn saved_config(root: &Path) -> Result<TrainConfig> {
     TrainConfig::load(&root.join(CONFIG_FILE))
 }

@@ -28,7 +28,7 @@ use crate::nca::model::Nca;
 use crate::nca::model_dir::{load_weights, save_weights};
 use crate::nca::region::Region;
 
-pub const SNAPSHOT_DIR: &str = "checkpoint";
+pub(crate) const SNAPSHOT_DIR: &str = "checkpoint";
 
 #[derive(Debug, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
