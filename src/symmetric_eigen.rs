@@ -52,14 +52,21 @@ fn rotate(a: &mut [[f64; 3]; 3], v: &mut [[f64; 3]; 3], p: usize, q: usize, c: f
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
+
+    /// `(R, R diag(3, 1, 0.2) R^T)` with R a rotation: eigenvalues 3, 1, 0.2 on R's columns.
+    pub(crate) fn rotated_diagonal() -> (DMat3, DMat3) {
+        let r = DMat3::from_axis_angle(DVec3::new(1.0, 2.0, 0.5).normalize(), 0.7);
+        (
+            r,
+            r * DMat3::from_diagonal(DVec3::new(3.0, 1.0, 0.2)) * r.transpose(),
+        )
+    }
 
     #[test]
     fn jacobi_gives_back_a_rotated_diagonal_in_ascending_order() {
-        // R diag(3, 1, 0.2) R^T with R a rotation: eigenvalues 3, 1, 0.2 on R's columns.
-        let r = DMat3::from_axis_angle(DVec3::new(1.0, 2.0, 0.5).normalize(), 0.7);
-        let m = r * DMat3::from_diagonal(DVec3::new(3.0, 1.0, 0.2)) * r.transpose();
+        let (r, m) = rotated_diagonal();
         let (values, vectors) = symmetric_eigen(&m);
         for (j, (want, axis)) in [(0.2, r.z_axis), (1.0, r.y_axis), (3.0, r.x_axis)]
             .into_iter()

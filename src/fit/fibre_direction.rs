@@ -222,9 +222,8 @@ mod tests {
 
     #[test]
     fn jacobi_finds_the_smallest_eigenvector() {
-        // R diag(3, 1, 0.2) R^T with R a rotation: the smallest eigenvector is R's third column.
-        let r = DMat3::from_axis_angle(DVec3::new(1.0, 2.0, 0.5).normalize(), 0.7);
-        let m = r * DMat3::from_diagonal(DVec3::new(3.0, 1.0, 0.2)) * r.transpose();
+        // The smallest eigenvector of R diag(3, 1, 0.2) R^T is R's third column.
+        let (r, m) = crate::symmetric_eigen::tests::rotated_diagonal();
         let (v, [low, mid]) = smallest_direction(&m);
         assert!(v.dot(r.z_axis).abs() > 1.0 - 1e-9, "{v} vs {}", r.z_axis);
         assert!(
