@@ -80,7 +80,7 @@
 //! - [`fit`]: fitting the growth field and base colour to a sample's six faces (`xylem fit`).
 //! - [`slice`]: sampling any solid texture on faces, cuts and planes; the unfolded cross.
 //! - [`image2`]: the float image type slices are returned in (resampled by the private
-//!   `resample` module: one area/bilinear implementation for every caller).
+//!   `resample` module: one box-filter/bilinear implementation for every caller).
 //! - [`outputs`]: the standard set of faces, cuts and unfolded cross written for a texture.
 //! - [`render`]: lit renders of any solid texture on the cube or on a carved mesh.
 //! - [`report`]: comparison sheets, captioned render rows and the HTML report of a run.
