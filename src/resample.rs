@@ -72,20 +72,17 @@ impl Image2 {
         out
     }
 
-    /// Bilinear interpolation at each output pixel's centre, clamped at the border.
+    /// Bilinear interpolation at each output pixel's centre (pixel centres aligned, clamped
+    /// at the border by [`Image2::bilinear`]).
     fn bilinear_to(&self, width: usize, height: usize) -> Image2 {
-        let rows = linear_weights(self.height, height);
-        let cols = linear_weights(self.width, width);
         let mut out = Image2::filled(width, height, self.channels, 0.0);
-        for (r, row_w) in rows.iter().enumerate() {
-            for (c, col_w) in cols.iter().enumerate() {
-                let px = out.pixel_mut(r, c);
-                for &(sr, wr) in row_w {
-                    for &(sc, wc) in col_w {
-                        for (o, v) in px.iter_mut().zip(self.pixel(sr, sc)) {
-                            *o += wr * wc * v;
-                        }
-                    }
+        let sy = self.height as f32 / height as f32;
+        let sx = self.width as f32 / width as f32;
+        for r in 0..height {
+            for c in 0..width {
+                let (y, x) = ((r as f32 + 0.5) * sy - 0.5, (c as f32 + 0.5) * sx - 0.5);
+                for (ch, o) in out.pixel_mut(r, c).iter_mut().enumerate() {
+                    *o = self.bilinear(y, x, ch);
                 }
             }
         }
@@ -99,18 +96,4 @@ fn span(i: usize, scale: f32, len: usize) -> (usize, usize) {
     let lo = ((i as f32 * scale).floor() as usize).min(len - 1);
     let hi = (((i + 1) as f32 * scale).ceil() as usize).clamp(lo + 1, len);
     (lo, hi)
-}
-
-/// Linear interpolation at each output pixel's centre, clamped at the border.
-fn linear_weights(n: usize, m: usize) -> Vec<Vec<(usize, f32)>> {
-    let scale = n as f32 / m as f32;
-    (0..m)
-        .map(|o| {
-            let x = ((o as f32 + 0.5) * scale - 0.5).clamp(0.0, (n - 1) as f32);
-            let x0 = x.floor() as usize;
-            let x1 = (x0 + 1).min(n - 1);
-            let f = x - x0 as f32;
-            vec![(x0, 1.0 - f), (x1, f)]
-        })
-        .collect()
 }

@@ -34,13 +34,11 @@ pub use base_colour::{BaseColour, WhiteBalance};
 pub(crate) use base_colour_texture::base_colour_as_seen;
 pub use base_colour_texture::{BaseColourTexture, ColourSpace};
 pub use config::{FieldConfig, GrowthConfig, KnotConfig, PithConfig, RingsConfig};
-pub use field_sample::FieldSample;
-pub use field_sample::Strand;
+pub use field_sample::{FieldSample, Strand};
 pub use grain_shaded_texture::GrainShaded;
 pub use grain_shading::GrainShading;
 pub use growth::{GrowthField, knot_union};
 pub use knot::Knot;
 pub use pith::{Cylindrical, PithAxis};
 pub use rate_grid::RateGrid;
-
 pub use smin::power_smin;
