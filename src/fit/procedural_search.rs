@@ -28,19 +28,23 @@ struct Param {
     bounds: [f32; 2],
 }
 
+/// A [`Param`] that is one field of one optional section of the species config, read and
+/// written as it is: `plain!(pores.opacity, step 0.2, bounds [0.0, 1.0])`.
+macro_rules! plain {
+    ($section:ident . $field:ident, step $step:expr, bounds $bounds:expr) => {
+        Param {
+            name: concat!(stringify!($section), ".", stringify!($field)),
+            get: |s| Some(s.$section.as_ref()?.$field),
+            set: |s, v| s.$section.iter_mut().for_each(|x| x.$field = v),
+            step: $step,
+            bounds: $bounds,
+        }
+    };
+}
+
 fn params() -> [Param; 4] {
     [
-        Param {
-            name: "pores.opacity",
-            get: |s| s.pores.as_ref().map(|p| p.opacity),
-            set: |s, v| {
-                if let Some(p) = &mut s.pores {
-                    p.opacity = v;
-                }
-            },
-            step: 0.2,
-            bounds: [0.0, 1.0],
-        },
+        plain!(pores.opacity, step 0.2, bounds [0.0, 1.0]),
         Param {
             // Both occurrences (earlywood, latewood) scale together: the ratio is the
             // species' ring-porosity, which the preset choice already says.
@@ -55,28 +59,8 @@ fn params() -> [Param; 4] {
             step: 0.2,
             bounds: [0.05, 1.0],
         },
-        Param {
-            name: "fibres.strength",
-            get: |s| s.fibres.as_ref().map(|f| f.strength),
-            set: |s, v| {
-                if let Some(f) = &mut s.fibres {
-                    f.strength = v;
-                }
-            },
-            step: 0.1,
-            bounds: [0.0, 2.0],
-        },
-        Param {
-            name: "pigment.amplitude",
-            get: |s| s.pigment.as_ref().map(|p| p.amplitude),
-            set: |s, v| {
-                if let Some(p) = &mut s.pigment {
-                    p.amplitude = v;
-                }
-            },
-            step: 0.1,
-            bounds: [0.0, 2.0],
-        },
+        plain!(fibres.strength, step 0.1, bounds [0.0, 2.0]),
+        plain!(pigment.amplitude, step 0.1, bounds [0.0, 2.0]),
     ]
 }
 

@@ -81,8 +81,8 @@ mod tests {
 
     #[test]
     fn rows_per_cut_and_only_columns_that_exist() {
-        let run = std::env::temp_dir().join(format!("xylem-cuts-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&run);
+        let scratch = tempfile::tempdir().unwrap();
+        let run = scratch.path();
         for f in [
             "sample/truth/cut1.png",
             "sample/truth/cut2.png",
@@ -94,12 +94,11 @@ mod tests {
             std::fs::create_dir_all(p.parent().unwrap()).unwrap();
             std::fs::write(p, b"").unwrap();
         }
-        let (columns, rows) = cut_rows(&run);
+        let (columns, rows) = cut_rows(run);
         assert_eq!(columns, ["truth", "NCA"]);
         let names: Vec<&str> = rows.iter().map(|r| r.cut.as_str()).collect();
         assert_eq!(names, ["cut1", "cut2", "cut10"]);
         assert!(rows[1].images[0].is_some() && rows[1].images[1].is_none());
         assert!(rows[2].images[0].is_none() && rows[2].images[1].is_some());
-        std::fs::remove_dir_all(&run).unwrap();
     }
 }

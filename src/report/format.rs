@@ -108,12 +108,17 @@ mod tests {
 
     #[test]
     fn durations_read_as_people_say_them() {
-        assert_eq!(duration(0.4213), "0.421 s");
-        assert_eq!(duration(0.007), "0.007 s");
-        assert_eq!(duration(2.0), "2 s");
-        assert_eq!(duration(12.34), "12.3 s");
-        assert_eq!(duration(185.2), "3 min 05 s");
-        assert_eq!(duration(7634.0), "2 h 07 min");
-        assert_eq!(duration(f64::NAN), "n/a");
+        let said = [
+            (0.4213, "0.421 s"),
+            (0.007, "0.007 s"),
+            (2.0, "2 s"),
+            (12.34, "12.3 s"),
+            (185.2, "3 min 05 s"),
+            (7634.0, "2 h 07 min"),
+            (f64::NAN, "n/a"),
+        ];
+        for (seconds, want) in said {
+            assert_eq!(duration(seconds), want, "{seconds} s");
+        }
     }
 }

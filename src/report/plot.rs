@@ -474,11 +474,16 @@ mod tests {
 
     #[test]
     fn tick_labels_are_short() {
-        assert_eq!(tick_label(0.01), "0.01");
-        assert_eq!(tick_label(100.0), "100");
-        assert_eq!(tick_label(0.005), "0.005");
-        assert_eq!(tick_label(1200.0), "1.2e3");
-        assert_eq!(tick_label(1.0), "1");
+        let log_axis = [
+            (0.01, "0.01"),
+            (100.0, "100"),
+            (0.005, "0.005"),
+            (1200.0, "1.2e3"),
+            (1.0, "1"),
+        ];
+        for (value, want) in log_axis {
+            assert_eq!(tick_label(value), want);
+        }
         assert_eq!(linear_tick_label(1200.0), "1200");
         assert_eq!(linear_tick_label(0.5), "0.5");
     }

@@ -49,30 +49,32 @@ mod tests {
 
     #[test]
     fn titles_name_the_sample_or_the_demo_species() {
-        let run = std::env::temp_dir().join(format!("xylem-title-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&run);
+        let scratch = tempfile::Builder::new()
+            .prefix("xylem-title-")
+            .tempdir()
+            .unwrap();
+        let run = scratch.path();
         std::fs::create_dir_all(run.join("sample/truth")).unwrap();
-        assert!(default_title(&run).starts_with("xylem run: xylem-title-"));
+        assert!(default_title(run).starts_with("xylem run: xylem-title-"));
         std::fs::write(
             run.join("run.toml"),
             "[inputs]\nsample = \"/data/mokume/CN03\"\nfaces = \"A\"\n",
         )
         .unwrap();
-        assert_eq!(default_title(&run), "xylem run: CN03");
+        assert_eq!(default_title(run), "xylem run: CN03");
         std::fs::write(
             run.join("run.toml"),
             "[inputs]\nsample = \"/old/place/demo/sample\"\n",
         )
         .unwrap();
-        assert_eq!(default_title(&run), "xylem run: sample");
+        assert_eq!(default_title(run), "xylem run: sample");
         std::fs::write(
             run.join("sample/truth/species.toml"),
             "name = \"chestnut\"\n",
         )
         .unwrap();
-        assert_eq!(default_title(&run), "xylem demo: chestnut");
+        assert_eq!(default_title(run), "xylem demo: chestnut");
         std::fs::write(run.join("run.toml"), "not toml [").unwrap();
-        assert!(default_title(&run).starts_with("xylem run: xylem-title-"));
-        std::fs::remove_dir_all(&run).unwrap();
+        assert!(default_title(run).starts_with("xylem run: xylem-title-"));
     }
 }

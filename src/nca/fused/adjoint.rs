@@ -21,7 +21,7 @@ use super::forward::Stepper;
 use super::lanes::LANES;
 use super::layout::{BACKWARD_BLOCK, gemm_cols, planes_mut};
 use super::mlp::{BlockWork, GradLanes, backward_block};
-use super::perceive::{fill_inputs, lines_at, neighbour_offsets};
+use super::perceive::{lines_at, neighbour_offsets};
 use super::perceive_adjoint::{AdjointScratch, adjoint_xy, adjoint_z, border_signs, piece_groups};
 use crate::nca::perception::FILTERS;
 
@@ -122,15 +122,7 @@ impl Stepper<'_> {
 multiversion!(
     /// Pass 1 of the adjoint for x-plane `x`: `dp[r]` is row r of plane x of the
     /// perceived-state gradient; returns the plane's weight gradients.
-    fn backward_plane(
-        st: &Stepper,
-        x: usize,
-        state: &[f32],
-        g_next: &[f32],
-        dp: &mut [&mut [f32]],
-        work: &mut BlockWork,
-        lanes: &mut GradLanes,
-    ) -> Gradients => backward_plane_body
+    fn backward_plane(st: &Stepper, x: usize, state: &[f32], g_next: &[f32], dp: &mut [&mut [f32]], work: &mut BlockWork, lanes: &mut GradLanes) -> Gradients => backward_plane_body
 );
 
 #[allow(clippy::too_many_arguments)]
@@ -153,16 +145,7 @@ fn backward_plane_body<K: Kernels>(
     for q0 in (0..plane).step_by(BACKWARD_BLOCK) {
         let n = BACKWARD_BLOCK.min(plane - q0);
         let cols = gemm_cols(n);
-        fill_inputs(
-            shapes,
-            st.fixed,
-            state,
-            x,
-            (q0, n),
-            &mut work.inp,
-            (stride, cols),
-            &mut work.scratch,
-        );
+        st.fill_block(state, x, (q0, n), work);
         for (c, row) in work
             .g
             .chunks_exact_mut(stride)
@@ -212,14 +195,7 @@ fn lane_sums(
 
 multiversion!(
     /// Pass 2 of the adjoint for x-plane `x`: `out[c]` = channel c of plane x of dL/d state.
-    fn perception_adjoint_plane(
-        st: &Stepper,
-        x: usize,
-        dp: &[f32],
-        g_next: &[f32],
-        out: &mut [&mut [f32]],
-        t: &mut AdjointScratch,
-    ) => perception_adjoint_body
+    fn perception_adjoint_plane(st: &Stepper, x: usize, dp: &[f32], g_next: &[f32], out: &mut [&mut [f32]], t: &mut AdjointScratch) => perception_adjoint_body
 );
 
 #[inline(always)]

@@ -11,7 +11,7 @@
 //! An [`Isa`] can only be obtained for an instruction set the CPU has, which is what makes
 //! calling the `#[target_feature]` functions sound.
 
-use super::gemm::{Store, gemm, reduce};
+use super::gemm::{Block, Rows, Store, Tiled, gemm, reduce};
 use super::isa::{Isa, Level};
 #[cfg(target_arch = "x86_64")]
 use super::simd::{Avx2, Avx512};
@@ -46,41 +46,11 @@ pub struct Tiles {
 pub trait Kernels: Simd {
     const TILES: Tiles;
     /// [`gemm`] with `TILES.rm_hidden` rows per tile.
-    #[allow(clippy::too_many_arguments)]
-    fn gemm_hidden(
-        self,
-        a: &[f32],
-        k: usize,
-        b: &[f32],
-        c: &mut [f32],
-        stride: usize,
-        cols: usize,
-        store: Store,
-    );
+    fn gemm_hidden(self, a: Tiled, b: &[f32], c: &mut [f32], block: Block, store: Store);
     /// [`gemm`] with `TILES.rm_state` rows per tile.
-    #[allow(clippy::too_many_arguments)]
-    fn gemm_state(
-        self,
-        a: &[f32],
-        k: usize,
-        b: &[f32],
-        c: &mut [f32],
-        stride: usize,
-        cols: usize,
-        store: Store,
-    );
-    /// [`reduce`] with `TILES.reduce` tiles.
-    #[allow(clippy::too_many_arguments)]
-    fn reduce(
-        self,
-        x: &[f32],
-        x_rows: usize,
-        y: &[f32],
-        y_rows: usize,
-        stride: usize,
-        nvec: usize,
-        lanes: &mut [f32],
-    );
+    fn gemm_state(self, a: Tiled, b: &[f32], c: &mut [f32], block: Block, store: Store);
+    /// [`reduce`] with `TILES.reduce` tiles, over `nvec` lane arrays of rows `stride` apart.
+    fn reduce(self, x: Rows, y: Rows, stride_nvec: (usize, usize), lanes: &mut [f32]);
 }
 
 /// Columns of C per gemm tile are `NV * LANES`; every level uses at most 2, so blocks are
@@ -98,43 +68,16 @@ macro_rules! kernels {
                 reduce: ($rx, $ry),
             };
             #[inline(always)]
-            fn gemm_hidden(
-                self,
-                a: &[f32],
-                k: usize,
-                b: &[f32],
-                c: &mut [f32],
-                stride: usize,
-                cols: usize,
-                store: Store,
-            ) {
-                gemm::<Self, $rmh, $nvh>(self, a, k, b, c, stride, cols, store)
+            fn gemm_hidden(self, a: Tiled, b: &[f32], c: &mut [f32], block: Block, store: Store) {
+                gemm::<Self, $rmh, $nvh>(self, a, b, c, block, store)
             }
             #[inline(always)]
-            fn gemm_state(
-                self,
-                a: &[f32],
-                k: usize,
-                b: &[f32],
-                c: &mut [f32],
-                stride: usize,
-                cols: usize,
-                store: Store,
-            ) {
-                gemm::<Self, $rms, $nvs>(self, a, k, b, c, stride, cols, store)
+            fn gemm_state(self, a: Tiled, b: &[f32], c: &mut [f32], block: Block, store: Store) {
+                gemm::<Self, $rms, $nvs>(self, a, b, c, block, store)
             }
             #[inline(always)]
-            fn reduce(
-                self,
-                x: &[f32],
-                x_rows: usize,
-                y: &[f32],
-                y_rows: usize,
-                stride: usize,
-                nvec: usize,
-                lanes: &mut [f32],
-            ) {
-                reduce::<Self, $rx, $ry>(self, x, x_rows, y, y_rows, stride, nvec, lanes)
+            fn reduce(self, x: Rows, y: Rows, stride_nvec: (usize, usize), lanes: &mut [f32]) {
+                reduce::<Self, $rx, $ry>(self, x, y, stride_nvec, lanes)
             }
         }
     };

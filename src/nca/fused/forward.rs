@@ -11,7 +11,7 @@ use rayon::prelude::*;
 use super::dispatch::{Kernels, multiversion};
 use super::inputs::FixedInputs;
 use super::isa::Isa;
-use super::layout::{FORWARD_BLOCK, Shapes, planes_mut};
+use super::layout::{FORWARD_BLOCK, Shapes, gemm_cols, planes_mut};
 use super::mlp::{BlockWork, forward_block};
 use super::perceive::fill_inputs;
 use super::weights::{MlpWeights, Packed};
@@ -68,6 +68,29 @@ impl<'a> Stepper<'a> {
         );
     }
 
+    /// The input matrix (perception and conditioning) of the `n` cells from `q0` of plane
+    /// `x` into `work.inp`, zero beyond `n`.
+    pub(crate) fn fill_block(
+        &self,
+        state: &[f32],
+        x: usize,
+        cells: (usize, usize),
+        work: &mut BlockWork,
+    ) {
+        let cols = gemm_cols(cells.1);
+        let (inp, scratch) = (&mut work.inp, &mut work.scratch);
+        fill_inputs(
+            &self.shapes,
+            self.fixed,
+            state,
+            x,
+            cells,
+            inp,
+            (work.stride, cols),
+            scratch,
+        );
+    }
+
     /// `steps` steps from `state`, calling `progress` after each; two buffers in all.
     pub fn unroll(
         &self,
@@ -104,18 +127,9 @@ fn forward_plane_body<K: Kernels>(
     let stride = work.stride;
     for q0 in (0..plane).step_by(FORWARD_BLOCK) {
         let n = FORWARD_BLOCK.min(plane - q0);
-        let cols = super::layout::gemm_cols(n);
-        fill_inputs(
-            &st.shapes,
-            st.fixed,
-            state,
-            x,
-            (q0, n),
-            &mut work.inp,
-            (stride, cols),
-            &mut work.scratch,
-        );
-        forward_block(k, &st.shapes, &st.packed, work, n);
+
+        st.fill_block(state, x, (q0, n), work);
+        forward_block(k, &st.packed, work, n);
         for (c, out) in outs.iter_mut().enumerate() {
             let old = &state[c * cells + x * plane + q0..][..n];
             let delta = &work.out[c * stride..][..n];

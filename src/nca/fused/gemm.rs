@@ -58,20 +58,52 @@ pub enum Store<'a> {
     Masked(&'a [f32]),
 }
 
-/// `C[0..rows][0..cols] = A B` (+ store variant), A packed by [`pack`] with `RM` rows per tile
-/// and `k` columns, B `[k][stride]`, C `[rows][stride]`, `cols` a multiple of `NV * LANES`.
-#[allow(clippy::too_many_arguments)]
+/// A weight matrix packed by [`pack`]: `k` columns, tiles of the kernel's `RM` rows.
+#[derive(Clone, Copy)]
+pub struct Tiled<'a> {
+    pub tiles: &'a [f32],
+    pub k: usize,
+}
+
+impl<'a> Tiled<'a> {
+    pub fn new(tiles: &'a [f32], k: usize) -> Self {
+        Self { tiles, k }
+    }
+}
+
+/// The shape shared by the block matrices of one product: `[rows][stride]`, of which the
+/// first `cols` columns are computed.
+#[derive(Clone, Copy)]
+pub struct Block {
+    pub stride: usize,
+    pub cols: usize,
+}
+
+/// The first `rows` rows of a block matrix `[rows][stride]`.
+#[derive(Clone, Copy)]
+pub struct Rows<'a> {
+    pub data: &'a [f32],
+    pub rows: usize,
+}
+
+impl<'a> Rows<'a> {
+    pub fn new(data: &'a [f32], rows: usize) -> Self {
+        Self { data, rows }
+    }
+}
+
+/// `C[0..rows][0..cols] = A B` (+ store variant), A packed with `RM` rows per tile, B
+/// `[k][stride]`, C `[rows][stride]`, `cols` a multiple of `NV * LANES`.
 #[inline(always)]
 pub fn gemm<S: Simd, const RM: usize, const NV: usize>(
     s: S,
-    a: &[f32],
-    k: usize,
+    a: Tiled,
     b: &[f32],
     c: &mut [f32],
-    stride: usize,
-    cols: usize,
+    Block { stride, cols }: Block,
     store: Store,
 ) {
+    let Tiled { tiles: a, k } = a;
     debug_assert_eq!(cols % (NV * LANES), 0);
     for (t, (a_tile, c_rows)) in a
         .chunks_exact(k * RM)
@@ -126,20 +158,24 @@ pub fn gemm<S: Simd, const RM: usize, const NV: usize>(
 }
 
 /// `lanes[i][j][l] += sum over lane arrays v of x[i][v LANES + l] y[j][v LANES + l]` for the
-/// first `x_rows` rows of x (`[x_rows][stride]`) and `y_rows` of y, over `nvec` lane arrays;
+/// first `x.rows` rows of x (`[x_rows][stride]`) and `y.rows` of y, over `nvec` lane arrays;
 /// `lanes` is `[x_rows][y_rows][LANES]`. `x_rows % RM == 0`, `y_rows % RK == 0`.
-#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub fn reduce<S: Simd, const RM: usize, const RK: usize>(
     s: S,
-    x: &[f32],
-    x_rows: usize,
-    y: &[f32],
-    y_rows: usize,
-    stride: usize,
-    nvec: usize,
+    x: Rows,
+    y: Rows,
+    (stride, nvec): (usize, usize),
     lanes: &mut [f32],
 ) {
+    let Rows {
+        data: x,
+        rows: x_rows,
+    } = x;
+    let Rows {
+        data: y,
+        rows: y_rows,
+    } = y;
     debug_assert!(x_rows.is_multiple_of(RM) && y_rows.is_multiple_of(RK));
     for mt in 0..x_rows / RM {
         let xs: [&[f32]; RM] =

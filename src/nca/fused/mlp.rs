@@ -9,7 +9,7 @@
 //! sums, see `gemm::reduce`), d perceived-state = W1[:, ..5C]^T dz.
 
 use super::dispatch::Kernels;
-use super::gemm::{Store, reduce_rows};
+use super::gemm::{Block, Rows, Store, reduce_rows};
 use super::lanes::LANES;
 use super::layout::{Shapes, gemm_cols, lane_count};
 use super::perceive::ForwardScratch;
@@ -34,6 +34,14 @@ pub struct BlockWork {
 }
 
 impl BlockWork {
+    /// The product shape of a block of `n` cells.
+    fn block(&self, n: usize) -> Block {
+        Block {
+            stride: self.stride,
+            cols: gemm_cols(n),
+        }
+    }
+
     pub fn new(shapes: &Shapes, block: usize) -> Self {
         let stride = gemm_cols(block);
         let rows = |r: usize| vec![0.0f32; r * stride];
@@ -76,35 +84,26 @@ impl GradLanes {
     }
 }
 
+/// The hidden layer `work.hid` = relu(W1 inputs + b1) of the block's first `block.cols`
+/// cells: the start of both passes (the backward pass recomputes it).
+#[inline(always)]
+fn hidden_layer<K: Kernels>(k: K, packed: &Packed, work: &mut BlockWork, block: Block) {
+    k.gemm_hidden(
+        packed.w1(),
+        &work.inp,
+        &mut work.hid,
+        block,
+        Store::BiasRelu(&packed.b1),
+    );
+}
+
 /// Forward MLP of a block of `n` cells whose inputs are in `work.inp`: the state change
 /// in `work.out` rows 0..C.
 #[inline(always)]
-pub(crate) fn forward_block<K: Kernels>(
-    k: K,
-    shapes: &Shapes,
-    packed: &Packed,
-    work: &mut BlockWork,
-    n: usize,
-) {
-    let (stride, cols) = (work.stride, gemm_cols(n));
-    k.gemm_hidden(
-        &packed.w1,
-        shapes.inputs,
-        &work.inp,
-        &mut work.hid,
-        stride,
-        cols,
-        Store::BiasRelu(&packed.b1),
-    );
-    k.gemm_state(
-        &packed.w2,
-        shapes.hidden,
-        &work.hid,
-        &mut work.out,
-        stride,
-        cols,
-        Store::Plain,
-    );
+pub(crate) fn forward_block<K: Kernels>(k: K, packed: &Packed, work: &mut BlockWork, n: usize) {
+    let block = work.block(n);
+    hidden_layer(k, packed, work, block);
+    k.gemm_state(packed.w2(), &work.hid, &mut work.out, block, Store::Plain);
 }
 
 /// Backward MLP of a block of `n` cells: inputs in `work.inp`, dL/d(next state) in `work.g`
@@ -119,52 +118,22 @@ pub fn backward_block<K: Kernels>(
     n: usize,
     lanes: &mut GradLanes,
 ) {
-    let (stride, cols, nvec) = (work.stride, gemm_cols(n), lane_count(n));
+    let block = work.block(n);
+    let span = (work.stride, lane_count(n));
     let h_rows = shapes.hidden_rows;
+    hidden_layer(k, packed, work, block);
     k.gemm_hidden(
-        &packed.w1,
-        shapes.inputs,
-        &work.inp,
-        &mut work.hid,
-        stride,
-        cols,
-        Store::BiasRelu(&packed.b1),
-    );
-    k.gemm_hidden(
-        &packed.w2t,
-        shapes.state,
+        packed.w2t(),
         &work.g,
         &mut work.dh,
-        stride,
-        cols,
+        block,
         Store::Masked(&work.hid),
     );
-    k.reduce(
-        &work.dh,
-        h_rows,
-        &work.inp,
-        shapes.input_rows,
-        stride,
-        nvec,
-        &mut lanes.w1,
-    );
-    k.reduce(
-        &work.hid,
-        h_rows,
-        &work.g,
-        shapes.state_rows,
-        stride,
-        nvec,
-        &mut lanes.w2t,
-    );
-    reduce_rows(k, &work.dh, h_rows, stride, nvec, &mut lanes.b1);
-    k.gemm_state(
-        &packed.w1t,
-        shapes.hidden,
-        &work.dh,
-        &mut work.out,
-        stride,
-        cols,
-        Store::Plain,
-    );
+    let (dz, hid) = (Rows::new(&work.dh, h_rows), Rows::new(&work.hid, h_rows));
+    let inputs = Rows::new(&work.inp, shapes.input_rows);
+    let next = Rows::new(&work.g, shapes.state_rows);
+    k.reduce(dz, inputs, span, &mut lanes.w1);
+    k.reduce(hid, next, span, &mut lanes.w2t);
+    reduce_rows(k, &work.dh, h_rows, work.stride, span.1, &mut lanes.b1);
+    k.gemm_state(packed.w1t(), &work.dh, &mut work.out, block, Store::Plain);
 }

@@ -140,31 +140,11 @@ fn perceive_piece(
         &mut sz[..len],
         &mut lap[..len],
     );
-    let (sm, sc, sp) = (
-        window(&t.s, 0, len),
-        window(&t.s, 1, len),
-        window(&t.s, 2, len),
-    );
-    let (xm, xc, xp) = (
-        window(&t.dx, 0, len),
-        window(&t.dx, 1, len),
-        window(&t.dx, 2, len),
-    );
-    let (ym, yc, yp) = (
-        window(&t.dy, 0, len),
-        window(&t.dy, 1, len),
-        window(&t.dy, 2, len),
-    );
-    let (bm, bc, bp) = (
-        window(&t.b, 0, len),
-        window(&t.b, 1, len),
-        window(&t.b, 2, len),
-    );
-    let (cm, cc, cp) = (
-        window(&t.c, 0, len),
-        window(&t.c, 1, len),
-        window(&t.c, 2, len),
-    );
+    let (sm, sc, sp) = neighbours(&t.s, len);
+    let (xm, xc, xp) = neighbours(&t.dx, len);
+    let (ym, yc, yp) = neighbours(&t.dy, len);
+    let (bm, bc, bp) = neighbours(&t.b, len);
+    let (cm, cc, cp) = neighbours(&t.c, len);
     let fc = window(&t.f, 1, len);
     for j in 0..len {
         id[j] = cc[j];
@@ -175,6 +155,13 @@ fn perceive_piece(
         let smooth = sm[j] + 2.0 * sc[j] + sp[j];
         lap[j] = (boxed + smooth + fc[j] + cm[j] + cp[j] - 97.0 * cc[j]) * 0.125;
     }
+}
+
+/// The `len` values of `v` from 0, 1 and 2: each z's lower neighbour, itself and its
+/// upper neighbour in a line padded by one value at each end.
+#[inline(always)]
+fn neighbours(v: &[f32], len: usize) -> (&[f32], &[f32], &[f32]) {
+    (window(v, 0, len), window(v, 1, len), window(v, 2, len))
 }
 
 /// `len` values of `v` from `o`.

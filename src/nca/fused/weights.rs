@@ -1,7 +1,7 @@
 //! The MLP weights as plain arrays, and packed for the kernels of one instruction set.
 
 use super::dispatch::Tiles;
-use super::gemm::pack;
+use super::gemm::{Tiled, pack};
 use super::layout::Shapes;
 use crate::error::{Result, XylemError};
 use crate::nca::model::Nca;
@@ -65,15 +65,19 @@ impl MlpWeights {
 #[derive(Clone, Debug)]
 pub struct Packed {
     /// W1 `[H, I]` for the hidden layer.
-    pub w1: Vec<f32>,
+    w1: Vec<f32>,
     /// b1 padded to `hidden_rows`.
     pub b1: Vec<f32>,
     /// W2 `[C, H]` for the state update.
-    pub w2: Vec<f32>,
+    w2: Vec<f32>,
     /// W2^T `[H, C]` for the hidden-layer gradient.
-    pub w2t: Vec<f32>,
+    w2t: Vec<f32>,
     /// The perceived-state columns of W1, transposed, `[5 C, H]`, for the perception gradient.
-    pub w1t: Vec<f32>,
+    w1t: Vec<f32>,
+    /// C, H and I: the matrices' column counts.
+    state: usize,
+    hidden: usize,
+    inputs: usize,
 }
 
 impl Packed {
@@ -93,6 +97,25 @@ impl Packed {
                 tiles.rm_state,
                 shapes.perceived_rows,
             ),
+            state: c,
+            hidden: h,
+            inputs: i,
         }
+    }
+
+    pub fn w1(&self) -> Tiled<'_> {
+        Tiled::new(&self.w1, self.inputs)
+    }
+
+    pub fn w2(&self) -> Tiled<'_> {
+        Tiled::new(&self.w2, self.hidden)
+    }
+
+    pub fn w2t(&self) -> Tiled<'_> {
+        Tiled::new(&self.w2t, self.state)
+    }
+
+    pub fn w1t(&self) -> Tiled<'_> {
+        Tiled::new(&self.w1t, self.hidden)
     }
 }
