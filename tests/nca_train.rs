@@ -712,3 +712,75 @@ fn identical_trainings_write_identical_checkpoints() {
         }
     }
 }
+
+/// The moment loss, made infinite at the iterations `bad` says.
+struct Spiking<F: Fn(usize) -> bool> {
+    inner: xylem::nca::MomentLoss,
+    bad: F,
+}
+
+impl<F: Fn(usize) -> bool> xylem::nca::FaceLoss for Spiking<F> {
+    fn loss(
+        &self,
+        patches: &[xylem::nca::faces::FacePatch],
+        iteration: usize,
+    ) -> burn::tensor::Tensor<1> {
+        let loss = self.inner.loss(patches, iteration);
+        if (self.bad)(iteration) {
+            loss.mul_scalar(f32::INFINITY)
+        } else {
+            loss
+        }
+    }
+}
+
+fn train_spiking(
+    out: &Path,
+    cfg: &TrainConfig,
+    data: &TrainData,
+    bad: impl Fn(usize) -> bool,
+) -> xylem::Result<xylem::nca::train::session::TrainOutcome> {
+    let kind = DeviceKind::Flex;
+    let loss = Spiking {
+        inner: xylem::nca::MomentLoss::new(&data.targets, &kind.device()),
+        bad,
+    };
+    let dir = xylem::io::OutputDir::prepare(out)?;
+    xylem::nca::train::session::run_training(
+        &dir,
+        cfg,
+        "test",
+        data,
+        kind,
+        &loss,
+        &TrainOptions::default(),
+        &mut |_| {},
+    )
+}
+
+#[test]
+fn a_non_finite_loss_skips_its_update_and_a_diverged_rule_stops_the_run() {
+    let (dir, sample) = scratch_with_sample("spikes");
+    // With a pool, so the overflowing iterations' slots are reseeded on the way.
+    let cfg = tiny_config(14, 8, 2);
+    let data = data(&sample, &cfg);
+    let outcome = train_spiking(&dir.join("two"), &cfg, &data, |it| it == 3 || it == 9).unwrap();
+    assert!(outcome.finished);
+    assert_eq!(outcome.skipped(), 2);
+    // Had the infinite iterations updated the weights, every later loss would be NaN.
+    let later: Vec<f32> = outcome.rows[10..].iter().map(|r| r.loss).collect();
+    assert!(later.iter().all(|l| l.is_finite()), "{later:?}");
+    assert!(dir.join("two/model.bpk").is_file());
+
+    let limit = xylem::nca::train::session::MAX_NON_FINITE_IN_A_ROW;
+    let err = train_spiking(&dir.join("diverged"), &cfg, &data, |it| it >= 2).unwrap_err();
+    let last = 2 + limit - 1;
+    assert_names(
+        &err.to_string(),
+        &[
+            &format!("for {limit} iterations in a row"),
+            &format!("at iteration {last}"),
+            "schedule.learning_rate",
+        ],
+    );
+}

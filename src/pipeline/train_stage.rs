@@ -122,6 +122,14 @@ pub fn train_into(
     )
     .map_err(|e| e.during(format!("training into {}", out.display())))?;
     bar.finish();
+    if outcome.skipped() > 0 {
+        reporter.note(&format!(
+            "{} of {} iterations had a non-finite loss; their updates were skipped and their \
+             pool states reseeded (loss.csv shows them as inf or NaN)",
+            outcome.skipped(),
+            outcome.iterations
+        ));
+    }
     if outcome.finished {
         reporter.say(&format!(
             "trained {} iterations; model in {} (model.bpk, loss.png)",

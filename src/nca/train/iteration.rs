@@ -272,10 +272,18 @@ impl Trainer {
             )?,
         };
         let lr = self.config.learning_rate(it);
-        let grads = normalise_gradients(&self.model, out.grads);
-        self.model = self.optimiser.step(lr, self.model.clone(), grads);
-        if let Some(slot) = slot {
-            self.pool.put(slot, region, out.final_state);
+        // A non-finite loss (a pool state that ran away, or a spike) would turn every weight
+        // into NaN: its update is skipped and its pool slot emptied, so the slot starts from
+        // a fresh seed when it is drawn again. The session decides when that is too often.
+        let finite = out.loss.is_finite();
+        if finite {
+            let grads = normalise_gradients(&self.model, out.grads);
+            self.model = self.optimiser.step(lr, self.model.clone(), grads);
+        }
+        match slot {
+            Some(slot) if finite => self.pool.put(slot, region, out.final_state),
+            Some(slot) => self.pool.clear(slot),
+            None => {}
         }
         let kept: Vec<Region> = self.pool.regions().copied().collect();
         self.inputs.retain(|r, _| kept.contains(r));

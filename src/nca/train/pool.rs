@@ -73,6 +73,11 @@ impl Pool {
         self.slots[slot] = Some(Slot { region, state });
     }
 
+    /// Empties a slot: its next draw starts from a fresh seed.
+    pub fn clear(&mut self, slot: usize) {
+        self.slots[slot] = None;
+    }
+
     /// Regions of the filled slots.
     pub fn regions(&self) -> impl Iterator<Item = &Region> {
         self.slots.iter().flatten().map(|s| &s.region)

@@ -36,6 +36,11 @@ pub struct TrainOptions {
     pub stop_after: Option<usize>,
 }
 
+/// Iterations in a row whose loss may be non-finite before the run stops: one such
+/// iteration is skipped (no update, its pool slot reseeded, see `Trainer::iterate`); a
+/// rule whose every unroll overflows has diverged, and more iterations cannot mend it.
+pub const MAX_NON_FINITE_IN_A_ROW: usize = 8;
+
 /// How a run ended.
 #[derive(Clone, Debug)]
 pub struct TrainOutcome {
@@ -43,6 +48,31 @@ pub struct TrainOutcome {
     /// The run reached `schedule.iterations` and wrote the final model.
     pub finished: bool,
     pub rows: Vec<LossRow>,
+}
+
+impl TrainOutcome {
+    /// Iterations whose loss was not finite (their updates were skipped).
+    pub fn skipped(&self) -> usize {
+        self.rows.iter().filter(|r| !r.loss.is_finite()).count()
+    }
+}
+
+/// Stops the run once the last [`MAX_NON_FINITE_IN_A_ROW`] rows all have a non-finite loss.
+fn check_divergence(rows: &[LossRow]) -> Result<()> {
+    let recent = rows.iter().rev().take(MAX_NON_FINITE_IN_A_ROW);
+    if rows.len() < MAX_NON_FINITE_IN_A_ROW || recent.clone().any(|r| r.loss.is_finite()) {
+        return Ok(());
+    }
+    let last = &rows[rows.len() - 1];
+    Err(XylemError::numeric(
+        "nca training",
+        format!(
+            "the loss was not finite ({}) for {MAX_NON_FINITE_IN_A_ROW} iterations in a row, \
+             the last at iteration {}: the rule has diverged (lower schedule.learning_rate \
+             or raise loss.overflow)",
+            last.loss, last.iteration
+        ),
+    ))
 }
 
 /// Trains into `out`, calling `on_iteration` after each iteration (for progress display).
@@ -106,14 +136,9 @@ pub fn run_training(
             });
         }
         let row = trainer.iterate(loss)?;
-        if !row.loss.is_finite() {
-            return Err(XylemError::numeric(
-                "nca training",
-                format!("loss became {} at iteration {}", row.loss, row.iteration),
-            ));
-        }
         on_iteration(&row);
         rows.push(row);
+        check_divergence(&rows)?;
         let every = config.checkpoint.every;
         let due_by_count = every > 0 && trainer.iteration % every == 0;
         if due_by_count || last_save.elapsed().as_secs_f64() >= interval {
