@@ -114,6 +114,7 @@ pub mod image2;
 pub(crate) mod image_filter;
 pub mod io;
 pub mod loss;
+mod mask_patches;
 pub mod memory;
 pub mod metrics;
 pub mod nca;

@@ -4,6 +4,8 @@
 //! density by ring phase.
 
 use burn::tensor::Device;
+
+mod common;
 use xylem::Image2;
 use xylem::frame::Face;
 use xylem::loss::{GuidedConfig, GuidedLoss, GuidedPatch, LossConfig, image_to_tensor};
@@ -197,4 +199,62 @@ fn phase_density_finds_the_pores_ring_phase() {
     assert!(curve_correlation(&early, &curve(0.0)) > 0.99);
     assert!(curve_correlation(&early, &curve(0.5)) < 0.0);
     assert_eq!(curve_correlation(&early, &[0.2; 8]), 0.0);
+}
+
+/// The six photos of a sample folder.
+fn photos(dir: &std::path::Path) -> Vec<Image2> {
+    let needs = xylem::sample::Needs {
+        photos: true,
+        arl: false,
+    };
+    let sample = xylem::sample::Sample::load(dir, &Face::ALL, needs).unwrap();
+    sample.photos.into_iter().flatten().collect()
+}
+
+/// Whether the pore gate takes the grain noise out of the quality model for these photos.
+fn gate_drops(photos: &[Image2]) -> (bool, Option<f32>) {
+    use xylem::nca::train::vessel_gate::leave_out_grain_noise_without_vessels;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/nca/quality.toml");
+    let mut model = <xylem::nca::TrainConfig as xylem::config::ConfigFile>::load(&path)
+        .unwrap()
+        .model;
+    let refs: Vec<&Image2> = photos.iter().collect();
+    let fraction = leave_out_grain_noise_without_vessels(&mut model, &refs);
+    let kept = model
+        .conditioning
+        .contains(&xylem::nca::CondChannel::GrainNoise);
+    (!kept, fraction)
+}
+
+#[test]
+fn grain_noise_is_left_out_for_wood_without_vessels() {
+    // Synthetic photographed samples at the photos' 256 px: the ring-porous presets keep the
+    // vessel noise, the softwood (no pores) loses it.
+    for (preset, drops) in [("chestnut", false), ("oak", false), ("softwood", true)] {
+        let dir = common::scratch(&format!("pore-gate-{preset}"));
+        let species = xylem::presets::load_species_preset(preset).unwrap();
+        let out = xylem::io::OutputDir::prepare(&dir).unwrap();
+        xylem::procedural::synthetic::write_sample(&species, "test", 256, &out).unwrap();
+        let photos = photos(&dir);
+        let fractions: Vec<f32> = photos
+            .iter()
+            .map(xylem::metrics::vessels::vessel_fraction)
+            .collect();
+        eprintln!("{preset}: pore fraction per face {fractions:?}");
+        let (dropped, _) = gate_drops(&photos);
+        assert_eq!(dropped, drops, "{preset}");
+    }
+    // The real cubes: chestnut keeps it, hinoki loses it.
+    let Some(mokume) = common::mokume_dir() else {
+        return;
+    };
+    for (cube, drops) in [("CN03", false), ("H11", true)] {
+        let photos = photos(&mokume.join(cube));
+        let fractions: Vec<f32> = photos
+            .iter()
+            .map(xylem::metrics::vessels::vessel_fraction)
+            .collect();
+        eprintln!("{cube}: pore fraction per face {fractions:?}");
+        assert_eq!(gate_drops(&photos).0, drops, "{cube}");
+    }
 }

@@ -16,6 +16,7 @@ use glam::Vec3;
 use super::config::ContourConfig;
 use crate::frame::Face;
 use crate::image2::Image2;
+use crate::mask_patches::patch_at;
 
 /// One connected ring edge on one face.
 #[derive(Clone, Debug, PartialEq)]
@@ -72,28 +73,13 @@ fn ring_mask(arl: &Image2, cfg: &ContourConfig) -> Vec<bool> {
     mask
 }
 
-/// The 8-connected component of `mask` containing `start`, marking it in `seen`.
+/// The 8-connected component of `mask` containing `start` as (row, column) pixels, marking
+/// it in `seen`.
 fn flood(mask: &[bool], seen: &mut [bool], start: usize, n: usize) -> Vec<[u32; 2]> {
-    let mut pixels = Vec::new();
-    let mut stack = vec![start];
-    seen[start] = true;
-    while let Some(i) = stack.pop() {
-        let (r, c) = (i / n, i % n);
-        pixels.push([r as u32, c as u32]);
-        for dr in -1i64..=1 {
-            for dc in -1i64..=1 {
-                let (rr, cc) = (r as i64 + dr, c as i64 + dc);
-                if rr < 0 || cc < 0 || rr >= n as i64 || cc >= n as i64 {
-                    continue;
-                }
-                let j = rr as usize * n + cc as usize;
-                if mask[j] && !seen[j] {
-                    seen[j] = true;
-                    stack.push(j);
-                }
-            }
-        }
-    }
+    let mut pixels: Vec<[u32; 2]> = patch_at(mask, seen, start, n)
+        .into_iter()
+        .map(|i| [(i / n) as u32, (i % n) as u32])
+        .collect();
     // Row-major order, so that thinning by stride spreads evenly over the curve.
     pixels.sort_unstable();
     pixels

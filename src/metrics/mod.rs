@@ -22,6 +22,7 @@ pub mod phase_density;
 pub mod report;
 pub mod ring;
 pub mod sheet;
+pub mod vessels;
 
 pub use report::{Comparer, METRIC_NAMES, Metrics, compare};
 pub use sheet::difference_sheet;

@@ -35,6 +35,12 @@ pub struct GrainNoiseSpec {
     pub across_mm: f32,
     /// Lattice spacing along the fibres in millimetres (about a pore dash's length).
     pub along_mm: f32,
+    /// Training leaves the channel out when fewer of the training photos' pixels than this
+    /// lie in vessels (`metrics::vessels`): wood without vessels (softwoods) gets no vessel
+    /// noise to draw (`nca::train::vessel_gate`). 0 (the default) keeps it always;
+    /// `quality.toml` sets 0.03, measured on hinoki at that scale (BENCHMARKS, "Grain noise
+    /// on a softwood"); the quick config on hinoki drew no dashes with the noise and keeps it.
+    pub min_vessel_fraction: f32,
 }
 
 impl Default for GrainNoiseSpec {
@@ -44,6 +50,7 @@ impl Default for GrainNoiseSpec {
         Self {
             across_mm: 0.3,
             along_mm: 1.5,
+            min_vessel_fraction: 0.0,
         }
     }
 }
@@ -51,7 +58,9 @@ impl Default for GrainNoiseSpec {
 impl GrainNoiseSpec {
     pub fn validate(&self, check: &Checker) -> Result<()> {
         check.range("across_mm", self.across_mm, 0.01, 100.0, "millimetres")?;
-        check.range("along_mm", self.along_mm, 0.01, 100.0, "millimetres")
+        check.range("along_mm", self.along_mm, 0.01, 100.0, "millimetres")?;
+        let share = self.min_vessel_fraction;
+        check.range("min_vessel_fraction", share, 0.0, 1.0, "a share")
     }
 }
 

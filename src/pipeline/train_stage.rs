@@ -9,6 +9,7 @@ use crate::Result;
 use crate::config::ConfigFile;
 use crate::device::DeviceKind;
 use crate::frame::Face;
+use crate::image2::Image2;
 use crate::io::{OutputDir, Provenance};
 use crate::nca::TrainConfig;
 use crate::nca::face_loss;
@@ -17,6 +18,7 @@ use crate::nca::model_dir::ModelMeta;
 use crate::nca::train::TrainData;
 use crate::nca::train::session::{TrainOptions, run_training, saved_config};
 use crate::nca::train::targets::photo_mean;
+use crate::nca::train::vessel_gate::leave_out_grain_noise_without_vessels;
 use crate::sample::{Needs, Sample};
 
 /// A fresh training or the continuation of the folder's own.
@@ -70,7 +72,7 @@ pub fn train_into(
 ) -> Result<TrainSummary> {
     let resume = matches!(options.start, TrainStart::Resume);
     let dir = OutputDir::prepare(out)?;
-    let (config, source, faces) = match &options.start {
+    let (mut config, source, faces) = match &options.start {
         TrainStart::Resume => (
             saved_config(dir.root())?,
             "the resumed run's train.toml".to_string(),
@@ -93,6 +95,19 @@ pub fn train_into(
         // A fresh fit's ramp colours (field configs) need the photos' mean colour.
         TrainStart::Fresh { fit, .. } => load_fit(fit, photo_mean(&sample))?,
     };
+    if !resume {
+        // A resumed run's train.toml already says whether the gate took the channel out.
+        let photos: Vec<&Image2> = sample.photos.iter().flatten().collect();
+        if let Some(f) = leave_out_grain_noise_without_vessels(&mut config.model, &photos) {
+            reporter.note(&format!(
+                "the photos show few vessels ({:.1} % of pixels, below \
+                 model.grain_noise.min_vessel_fraction = {:.1} %): training without the \
+                 grain_noise channel (train.toml records the conditioning used)",
+                100.0 * f,
+                100.0 * config.model.grain_noise.min_vessel_fraction
+            ));
+        }
+    }
     let data = TrainData::prepare(&sample, fit, &config);
     let loss = face_loss(&config, &data, &options.device.device())?;
     let bar = reporter.counter("train", config.schedule.iterations as u64);

@@ -27,5 +27,6 @@ pub mod session;
 pub mod snapshot;
 pub mod style_face_loss;
 pub mod targets;
+pub mod vessel_gate;
 
 pub use iteration::{TrainData, Trainer, adam};
