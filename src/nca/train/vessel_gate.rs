@@ -2,11 +2,11 @@
 //!
 //! Why: the grain noise (`nca::grain_noise`) is vessel noise, tubes along the fibres that the
 //! rule thresholds into pore dashes. Softwoods have no vessels. Trained on hinoki (H11) with
-//! the noise, the quality NCA covered held-out
-//! faces with pink and violet dashes (H11 A: style 1.58 against the base colour's 0.78);
-//! the same config without the channel drew no dashes (style 0.45; BENCHMARKS, "Grain noise
-//! on a softwood"). The rule cannot learn to ignore the channel on side grain alone: the
-//! noise that makes dots on end grain makes dashes on side grain.
+//! the noise, the quality NCA covered held-out faces with pink and violet dashes (H11 A:
+//! style 1.58 against the base colour's 0.78); the same config without the channel drew no
+//! dashes (style 0.45; BENCHMARKS, "Grain noise on a softwood"). The rule cannot learn to
+//! ignore the channel on side grain alone: the noise that makes dots on end grain makes
+//! dashes on side grain.
 
 use crate::image2::Image2;
 use crate::metrics::vessels::vessel_fraction;
