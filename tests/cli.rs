@@ -190,9 +190,25 @@ fn sample_writes_the_mokume_layout_and_slice_takes_a_species() {
     }
     assert!(out.join("C_knot.png").is_file() && out.join("F_knot.png").is_file());
     assert!(!out.join("A_knot.png").exists());
-    for f in ["cut1.png", "cut2.png", "field.toml", "species.toml"] {
+    for f in [
+        "cut1.png",
+        "cut2.png",
+        "field.toml",
+        "species.toml",
+        "photograph.toml",
+    ] {
         assert!(out.join("truth").join(f).is_file(), "truth/{f}");
     }
+    let err = run_err(
+        xylem()
+            .args(["sample", "--preset", "oak", "--end-grain", "3", "--out"])
+            .arg(out.join("too-light")),
+    );
+    assert_names(&err, &["--end-grain", "end_grain", "[0.25, 1.5]"]);
+    assert!(
+        !out.join("too-light").exists(),
+        "nothing written for a refused factor"
+    );
     // The truth field renders with `xylem field`.
     run_ok(
         xylem()
@@ -441,6 +457,7 @@ fn slice_sees_a_volume_with_a_fits_grain_shading() {
         knot_bar: vec![],
         knot_blend: 1.0,
         face_offsets: [[0.0; 3]; 6],
+        mean_shift: [0.0; 3],
         white_balance: WhiteBalance {
             face_means: [[0.6; 3]; 6],
             mean: [0.6; 3],

@@ -69,6 +69,7 @@ fn fitted(preset: &str) -> FieldConfig {
         knot_bar: vec![],
         knot_blend: 1.0,
         face_offsets: [[0.0; 3]; 6],
+        mean_shift: [0.0; 3],
         white_balance: WhiteBalance {
             face_means: [mean; 6],
             mean,

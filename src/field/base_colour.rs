@@ -39,6 +39,14 @@ pub struct BaseColour {
     pub knot_blend: f32,
     /// White-balanced RGB added on each face A..F (photo lighting); zero for faces not fitted.
     pub face_offsets: [[f32; 3]; 6],
+    /// White-balanced RGB from the bars' ground colour to the photos' mean colour: the mean
+    /// residual of the robust (L1) fit over the fitted faces. The bars follow each ring
+    /// position's median, which lies above the mean where dark pores make a tail (synthetic
+    /// chestnut: 4 % in lightness); the base colour shown on its own as a prediction of the
+    /// photos adds it (`ColourSpace::Shown`), the NCA's B does not (its residual paints the
+    /// pores on the ground colour). Absent in fits made before it: zero.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub mean_shift: [f32; 3],
     pub white_balance: WhiteBalance,
 }
 
@@ -54,6 +62,10 @@ pub struct WhiteBalance {
     /// show it (`grain_shading`); absent: every surface has the plain `mean`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub grain: Option<GrainShading>,
+}
+
+fn is_zero(v: &[f32; 3]) -> bool {
+    v.iter().all(|&x| x == 0.0)
 }
 
 fn default_knot_blend() -> f32 {
@@ -157,6 +169,12 @@ impl BaseColour {
                 "a white-balanced RGB offset",
             )?;
         }
+        check.vector(
+            "mean_shift",
+            self.mean_shift,
+            0.5,
+            "a white-balanced RGB shift",
+        )?;
         self.white_balance.validate(&check.nested("white_balance"))
     }
 
@@ -192,5 +210,10 @@ impl BaseColour {
         let offset = face.map_or([0.0; 3], |f| self.face_offsets[f.index()]);
         let lit = std::array::from_fn(|c| rgb[c] + offset[c]);
         self.white_balance.to_real(lit, face)
+    }
+
+    /// [`Self::to_real`] of the colour shifted to the photos' mean (`mean_shift`).
+    pub(crate) fn to_shown(&self, rgb: [f32; 3], face: Option<Face>) -> [f32; 3] {
+        self.to_real(std::array::from_fn(|c| rgb[c] + self.mean_shift[c]), face)
     }
 }

@@ -15,8 +15,12 @@ pub enum ColourSpace {
     /// White-balanced, no face offsets: what the NCA is conditioned on.
     WhiteBalanced,
     /// Real colour as seen on a face (its offset and white balance) or, with `None`, in a cut
-    /// or volume.
+    /// or volume: the ground colour on which the NCA paints.
     Real(Option<Face>),
+    /// [`ColourSpace::Real`] shifted to the photos' mean colour (`BaseColour::mean_shift`):
+    /// the base colour on its own as a prediction of the photos (faces, cuts, sheets,
+    /// renders, metrics).
+    Shown(Option<Face>),
 }
 
 /// The base colour as a solid texture: field + bars -> RGB (3 channels).
@@ -49,11 +53,11 @@ pub(crate) fn base_colour_as_seen(
         Some(f) => Box::new(BaseColourTexture::new(
             field.clone(),
             colour,
-            ColourSpace::Real(Some(f)),
+            ColourSpace::Shown(Some(f)),
         )),
         None => {
             let wb = colour.white_balance.clone();
-            let plain = BaseColourTexture::new(field.clone(), colour, ColourSpace::Real(None));
+            let plain = BaseColourTexture::new(field.clone(), colour, ColourSpace::Shown(None));
             Box::new(GrainShaded::new(plain, Some(&wb)))
         }
     }
@@ -69,6 +73,7 @@ impl SolidTexture for BaseColourTexture {
         let rgb = match self.space {
             ColourSpace::WhiteBalanced => rgb,
             ColourSpace::Real(face) => self.colour.to_real(rgb, face),
+            ColourSpace::Shown(face) => self.colour.to_shown(rgb, face),
         };
         out.copy_from_slice(&rgb);
     }

@@ -17,11 +17,18 @@ pub struct GrainShaded<T> {
 }
 
 impl<T: SolidTexture> GrainShaded<T> {
-    /// `inner` holds colours at `white_balance.mean` (the base colour in `Real(None)`, the
+    /// `inner` holds colours at `white_balance.mean` (the base colour in `Shown(None)`, the
     /// NCA's volume); the shading is the white balance's, if it has one (and none without a
     /// white balance, e.g. for a stand-in fit without base colour).
     pub fn new(inner: T, white_balance: Option<&WhiteBalance>) -> Self {
         let shading = white_balance.and_then(|wb| wb.grain.clone().map(|g| (g, wb.mean)));
+        Self { inner, shading }
+    }
+
+    /// `inner` (RGB at white balance `mean`) seen with a given `shading`, e.g. a synthetic
+    /// sample's photographing step (`procedural::Photograph`).
+    pub fn with_shading(inner: T, shading: GrainShading, mean: [f32; 3]) -> Self {
+        let shading = Some((shading, mean));
         Self { inner, shading }
     }
 }

@@ -51,6 +51,7 @@ pub(crate) fn fit_base_colour(
         },
         knot_blend: cfg.knot_blend,
         face_offsets: [[0.0; 3]; 6],
+        mean_shift: [0.0; 3],
         white_balance,
     };
     let samples = colour_samples(field, balanced, faces, &colour, cfg.pixel_stride);
@@ -62,7 +63,39 @@ pub(crate) fn fit_base_colour(
         colour.knot_bar = binned_medians(&samples, cfg.bar_nodes, |s| s.w >= 0.5);
     }
     refine(&mut colour, &samples, faces, cfg, &mut log);
+    colour.mean_shift = mean_residual(&colour, &samples);
     colour
+}
+
+/// Mean of photo minus fitted colour over the samples, per channel: where the L1 fit sits
+/// above the photos' mean (`BaseColour::mean_shift`). Summed in f64 in sample order, so it
+/// does not depend on threads.
+fn mean_residual(colour: &BaseColour, samples: &[ColourSample]) -> [f32; 3] {
+    let mut sum = [0.0f64; 3];
+    for s in samples {
+        let pred = prediction(colour, s);
+        for c in 0..3 {
+            sum[c] += (s.target[c] - pred[c]) as f64;
+        }
+    }
+    sum.map(|v| (v / samples.len() as f64) as f32)
+}
+
+/// The fitted colour of one sample: bars at its t, blended by its knot weight, plus its
+/// face's offset.
+fn prediction(colour: &BaseColour, s: &ColourSample) -> [f32; 3] {
+    let (nb, nk) = (colour.bar.len(), colour.knot_bar.len());
+    let (i, f) = bar_position(s.t, nb);
+    let off = colour.face_offsets[s.face];
+    std::array::from_fn(|c| {
+        let stem = colour.bar[i][c] * (1.0 - f) + colour.bar[i + 1][c] * f;
+        let knot = if nk > 0 {
+            colour.knot_bar[i][c] * (1.0 - f) + colour.knot_bar[i + 1][c] * f
+        } else {
+            0.0
+        };
+        stem * (1.0 - s.w) + knot * s.w + off[c]
+    })
 }
 
 fn colour_samples(
@@ -159,16 +192,9 @@ fn loss_and_gradient(
             let (mut sum, mut grad) = (0.0f64, vec![0.0f32; n_params]);
             for s in chunk {
                 let (i, f) = bar_position(s.t, nb);
-                let off = colour.face_offsets[s.face];
+                let pred = prediction(colour, s);
                 for c in 0..3 {
-                    let stem = colour.bar[i][c] * (1.0 - f) + colour.bar[i + 1][c] * f;
-                    let knot = if nk > 0 {
-                        colour.knot_bar[i][c] * (1.0 - f) + colour.knot_bar[i + 1][c] * f
-                    } else {
-                        0.0
-                    };
-                    let pred = stem * (1.0 - s.w) + knot * s.w + off[c];
-                    let r = pred - s.target[c];
+                    let r = pred[c] - s.target[c];
                     sum += r.abs() as f64;
                     let g = sign(r) / count;
                     grad[3 * i + c] += g * (1.0 - s.w) * (1.0 - f);
@@ -279,6 +305,7 @@ mod tests {
             knot_bar,
             knot_blend: 1.0,
             face_offsets: std::array::from_fn(|_| std::array::from_fn(|_| rng.range(-0.1, 0.1))),
+            mean_shift: [0.0; 3],
             white_balance: WhiteBalance {
                 face_means: [[0.5; 3]; 6],
                 mean: [0.5; 3],

@@ -16,7 +16,7 @@ use super::config::{FitConfig, RingPeakConfig};
 use super::contours::{Contour, ContourSet, face_contours};
 use super::distortion::{LossParts, Step2, Step2Data, Step2Params};
 use super::fibre_direction::{FibreChoice, FibreMeasure, measure_fibre_direction};
-use super::grain_shading_fit::{ShadingEstimate, shaded_white_balance};
+use super::grain_shading_fit::{ShadingEstimate, add_grain_shading, face_content};
 use super::grey_map::{self, GRange};
 use super::grid_layout::fitted_grid;
 use super::iso_loss::iso_loss;
@@ -25,6 +25,7 @@ use super::metrics::iso_error_mm;
 use super::pith_descent::descend;
 use super::pith_search::{axes_differ, axis_loss, search};
 use super::ring_peaks::{median_spacing, profile_peaks};
+use super::white_balance::white_balance;
 use crate::config::Checker;
 use crate::config::ConfigFile;
 use crate::error::{Result, XylemError};
@@ -190,14 +191,14 @@ fn fit_colour(
     log: &mut Vec<LossRow>,
     progress: Progress,
 ) -> (BaseColour, Option<ShadingEstimate>) {
-    let (wb, grain) = shaded_white_balance(&sample.photos, &sample.faces, fibre_axis);
+    let wb = white_balance(&sample.photos, &sample.faces);
     let balanced: [Option<Image2>; 6] = std::array::from_fn(|f| {
         sample.photos[f]
             .as_ref()
             .map(|p| p.with_channels(3).balanced(&wb.face_means[f]))
     });
     let iterations = cfg.colour.iterations;
-    let colour = fit_base_colour(
+    let mut colour = fit_base_colour(
         growth,
         &balanced,
         &sample.faces,
@@ -216,6 +217,14 @@ fn fit_colour(
             });
             progress("colour", it, iterations);
         },
+    );
+    // After the bars: they tell how much of each face's mean is the wood it shows.
+    let content = face_content(&colour, growth, &sample.faces);
+    let grain = add_grain_shading(
+        &mut colour.white_balance,
+        &sample.faces,
+        fibre_axis,
+        &content,
     );
     (colour, grain)
 }

@@ -11,9 +11,11 @@ use crate::frame::Face;
 use crate::image2::Image2;
 use crate::io::load_rgb;
 use crate::io::npy::read_volume;
+use crate::procedural::photograph::{Photograph, photographed};
 use crate::procedural::{ProceduralWood, SpeciesConfig};
 use crate::report::SHEET_ROWS;
 use crate::run_folder::RunLayout;
+use crate::texture::SolidTexture;
 use crate::volume::Volume;
 use crate::{Result, XylemError};
 
@@ -24,10 +26,11 @@ pub(crate) struct Compared {
     pub nca: GrainShaded<Volume>,
     /// The base colour at the sample's white balance, seen with the grain shading.
     pub base: GrainShaded<BaseColourTexture>,
-    /// The procedural model: the truth of a synthetic sample; otherwise the fit's
+    /// The procedural model: the truth of a synthetic sample (seen through the photograph
+    /// that made its faces); otherwise the fit's
     /// `procedural.toml` (seen with the grain shading: its colours are matched to the photos'
     /// mean), or without one the `species` preset on the fitted field.
-    pub procedural: GrainShaded<ProceduralWood>,
+    pub procedural: Box<dyn SolidTexture>,
     /// Photos of the faces and, for a synthetic sample, the true cuts (SHEET_ROWS order).
     pub reference: Vec<Option<Image2>>,
     /// The sample is synthetic: its procedural model is the truth.
@@ -47,13 +50,17 @@ impl Compared {
         let truth = truth_species(sample)?;
         let synthetic = truth.is_some();
         let fitted = layout.fit_dir().join(PROCEDURAL_FILE);
-        let procedural = match truth {
-            Some(t) => GrainShaded::new(ProceduralWood::new(&t), None),
-            None if fitted.is_file() => GrainShaded::new(
+        let procedural: Box<dyn SolidTexture> = match truth {
+            Some((t, photograph)) => Box::new(photographed(
+                ProceduralWood::new(&t),
+                &photograph,
+                t.pith.fibre_axis(),
+            )),
+            None if fitted.is_file() => Box::new(GrainShaded::new(
                 ProceduralWood::new(&SpeciesConfig::load(&fitted)?),
                 Some(&base.colour.white_balance),
-            ),
-            None => GrainShaded::new(ProceduralWood::new(&species_on_field(species, &fit)?), None),
+            )),
+            None => Box::new(ProceduralWood::new(&species_on_field(species, &fit)?)),
         };
         Ok(Self {
             base: GrainShaded::new(base.clone(), Some(&base.colour.white_balance)),
@@ -67,13 +74,20 @@ impl Compared {
 }
 
 /// The species config of a synthetic sample (`truth/species.toml`), if it has one.
-fn truth_species(sample: &Path) -> Result<Option<SpeciesConfig>> {
+/// The truth of a synthetic sample: its species and how it was photographed (plainly when
+/// the sample predates `truth/photograph.toml`).
+fn truth_species(sample: &Path) -> Result<Option<(SpeciesConfig, Photograph)>> {
     let path = sample.join("truth/species.toml");
-    Ok(if path.is_file() {
-        Some(SpeciesConfig::load(&path)?)
+    if !path.is_file() {
+        return Ok(None);
+    }
+    let photograph = sample.join("truth/photograph.toml");
+    let photograph = if photograph.is_file() {
+        Photograph::load(&photograph)?
     } else {
-        None
-    })
+        Photograph::default()
+    };
+    Ok(Some((SpeciesConfig::load(&path)?, photograph)))
 }
 
 /// A species preset's colours on the fitted growth field.
@@ -98,7 +112,7 @@ fn base_colour(fit: &FieldConfig, path: &Path) -> Result<BaseColourTexture> {
     Ok(BaseColourTexture::new(
         GrowthField::from_config(fit),
         colour,
-        ColourSpace::Real(None),
+        ColourSpace::Shown(None),
     ))
 }
 

@@ -16,6 +16,7 @@
 //! - [`noise`]: hashed lattice noise.
 //! - [`model`]: the model itself ([`ProceduralWood`], a `SolidTexture`).
 //! - [`direction`]: the fibre direction implied by the distortions (extra channels).
+//! - [`photograph`]: how a synthetic sample is photographed (the end-grain factor).
 //! - [`synthetic`]: sample folders in the Mokume layout with their hidden truth.
 //! - [`recolour`]: a config with every colour scaled (the inverse procedural fit's palette).
 //!
@@ -33,6 +34,7 @@ pub mod figure;
 pub mod knot_colour;
 pub mod model;
 pub mod noise;
+pub mod photograph;
 pub mod pigment;
 pub mod pores;
 pub mod rays;
@@ -45,4 +47,5 @@ pub mod years;
 pub use config::SpeciesConfig;
 pub use direction::{FibreDirection, WithFibreDirection};
 pub use model::{ProceduralWood, RingTime, WoodSample};
-pub use synthetic::write_sample;
+pub use photograph::Photograph;
+pub use synthetic::{write_photographed_sample, write_sample};

@@ -8,7 +8,9 @@
 //!   `sample::marker_value(i)` at the crossing of knot i (the H11 encoding);
 //! - `truth/cut1.png`, `truth/cut2.png`: the validation cuts in colour;
 //! - `truth/field.toml`: the growth field (`xylem field --config` loads it);
-//! - `truth/species.toml`: the full species config.
+//! - `truth/species.toml`: the full species config;
+//! - `truth/photograph.toml`: how faces and cuts were photographed (`photograph`: the
+//!   end-grain factor, 1 unless asked for).
 //!
 //! The ring images show T, which equals the field's G unless the species varies ring widths
 //! per year, has figure or is a burl; `truth/field.toml` says in its header which is the case.
@@ -17,7 +19,8 @@ use glam::Vec3;
 
 use super::config::SpeciesConfig;
 use super::model::{ProceduralWood, RingTime};
-use crate::config::{to_toml, write_config_copy};
+use super::photograph::{Photograph, photographed};
+use crate::config::{ConfigFile, to_toml, write_config_copy};
 use crate::error::Result;
 use crate::field::{KnotConfig, RingImage};
 use crate::frame::{Face, HALF, Plane};
@@ -85,14 +88,27 @@ pub fn rings_follow_field(cfg: &SpeciesConfig) -> bool {
     cfg.rings.width_variation == 0.0 && !figure && cfg.burl.is_none()
 }
 
-/// Writes the sample folder of `cfg` at `n` x `n` pixels per face into `out`.
+/// Writes the sample folder of `cfg` at `n` x `n` pixels per face into `out`, photographed
+/// plainly (no end-grain factor).
 pub fn write_sample(cfg: &SpeciesConfig, origin: &str, n: usize, out: &OutputDir) -> Result<()> {
+    write_photographed_sample(cfg, &Photograph::default(), origin, n, out)
+}
+
+/// [`write_sample`] with the faces and truth cuts seen through `photograph`.
+pub fn write_photographed_sample(
+    cfg: &SpeciesConfig,
+    photograph: &Photograph,
+    origin: &str,
+    n: usize,
+    out: &OutputDir,
+) -> Result<()> {
     let model = ProceduralWood::new(cfg);
+    let seen = photographed(&model, photograph, cfg.pith.fibre_axis());
     let time = RingTime(&model);
     let rings = RingImage(&time);
     for face in Face::ALL {
         save_png(
-            &slice_face(&model, face, n),
+            &slice_face(&seen, face, n),
             &out.path(format!("{face}_col.png")),
         )?;
         save_png(
@@ -104,11 +120,11 @@ pub fn write_sample(cfg: &SpeciesConfig, origin: &str, n: usize, out: &OutputDir
         save_png(&image, &out.path(format!("{face}_knot.png")))?;
     }
     save_png(
-        &slice_plane(&model, &Plane::cut1(), n, n),
+        &slice_plane(&seen, &Plane::cut1(), n, n),
         &out.path("truth/cut1.png"),
     )?;
     save_png(
-        &slice_plane(&model, &Plane::cut2(), n, n),
+        &slice_plane(&seen, &Plane::cut2(), n, n),
         &out.path("truth/cut2.png"),
     )?;
     let note = if rings_follow_field(cfg) {
@@ -122,5 +138,6 @@ pub fn write_sample(cfg: &SpeciesConfig, origin: &str, n: usize, out: &OutputDir
         to_toml(&cfg.field_config())?
     );
     write_bytes_atomic(&out.path("truth/field.toml"), text.as_bytes())?;
-    write_config_copy(&out.path("truth/species.toml"), cfg, origin)
+    write_config_copy(&out.path("truth/species.toml"), cfg, origin)?;
+    photograph.save_copy(&out.path("truth/photograph.toml"), origin)
 }
