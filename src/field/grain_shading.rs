@@ -7,9 +7,9 @@
 //! m(n) = side + (end - side) w, w = (n . t)^2, t the fibre direction
 //! (`PithConfig::fibre_axis`): w is 0 on side grain, 1 on end grain, 1/3 on average over all
 //! orientations. A solid texture whose colours are at the white balance of the whole sample
-//! (the base colour's `Real(None)` and `Shown(None)`, the NCA's volume) is seen on that surface multiplied per
-//! channel by m(n) / mean ([`GrainShading::factor`]). The fibre direction is one vector for
-//! the cube: the deflection around knots is not modelled.
+//! (the base colour's `Real(None)` and `Shown(None)`, the NCA's volume) is seen on that
+//! surface multiplied per channel by m(n) / mean ([`GrainShading::factor`]). The fibre
+//! direction is one vector for the cube: the deflection around knots is not modelled.
 //!
 //! The model is fitted from the faces' mean colours (`fit::grain_shading_fit`) and kept only
 //! when the photos show it; otherwise the white balance has none and every surface gets the

@@ -73,7 +73,7 @@ pub(crate) fn fit_base_colour(
 fn mean_residual(colour: &BaseColour, samples: &[ColourSample]) -> [f32; 3] {
     let mut sum = [0.0f64; 3];
     for s in samples {
-        let pred = prediction(colour, s);
+        let pred = prediction(colour, s, bar_position(s.t, colour.bar.len()));
         for c in 0..3 {
             sum[c] += (s.target[c] - pred[c]) as f64;
         }
@@ -81,11 +81,10 @@ fn mean_residual(colour: &BaseColour, samples: &[ColourSample]) -> [f32; 3] {
     sum.map(|v| (v / samples.len() as f64) as f32)
 }
 
-/// The fitted colour of one sample: bars at its t, blended by its knot weight, plus its
-/// face's offset.
-fn prediction(colour: &BaseColour, s: &ColourSample) -> [f32; 3] {
-    let (nb, nk) = (colour.bar.len(), colour.knot_bar.len());
-    let (i, f) = bar_position(s.t, nb);
+/// The fitted colour of one sample: bars at its t (node `i`, fraction `f`, from
+/// `bar_position`), blended by its knot weight, plus its face's offset.
+fn prediction(colour: &BaseColour, s: &ColourSample, (i, f): (usize, f32)) -> [f32; 3] {
+    let nk = colour.knot_bar.len();
     let off = colour.face_offsets[s.face];
     std::array::from_fn(|c| {
         let stem = colour.bar[i][c] * (1.0 - f) + colour.bar[i + 1][c] * f;
@@ -192,7 +191,7 @@ fn loss_and_gradient(
             let (mut sum, mut grad) = (0.0f64, vec![0.0f32; n_params]);
             for s in chunk {
                 let (i, f) = bar_position(s.t, nb);
-                let pred = prediction(colour, s);
+                let pred = prediction(colour, s, (i, f));
                 for c in 0..3 {
                     let r = pred[c] - s.target[c];
                     sum += r.abs() as f64;

@@ -27,9 +27,9 @@ pub(crate) struct Compared {
     /// The base colour at the sample's white balance, seen with the grain shading.
     pub base: GrainShaded<BaseColourTexture>,
     /// The procedural model: the truth of a synthetic sample (seen through the photograph
-    /// that made its faces); otherwise the fit's
-    /// `procedural.toml` (seen with the grain shading: its colours are matched to the photos'
-    /// mean), or without one the `species` preset on the fitted field.
+    /// that made its faces); otherwise the fit's `procedural.toml` (seen with the grain
+    /// shading: its colours are matched to the photos' mean), or without one the `species`
+    /// preset on the fitted field.
     pub procedural: Box<dyn SolidTexture>,
     /// Photos of the faces and, for a synthetic sample, the true cuts (SHEET_ROWS order).
     pub reference: Vec<Option<Image2>>,
@@ -73,7 +73,6 @@ impl Compared {
     }
 }
 
-/// The species config of a synthetic sample (`truth/species.toml`), if it has one.
 /// The truth of a synthetic sample: its species and how it was photographed (plainly when
 /// the sample predates `truth/photograph.toml`).
 fn truth_species(sample: &Path) -> Result<Option<(SpeciesConfig, Photograph)>> {
