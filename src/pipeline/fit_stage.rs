@@ -111,7 +111,9 @@ fn say_fibre(fibre: Option<&FibreMeasure>, axis: [f32; 3], reporter: &dyn Report
 /// Says whether the photos show end grain darker or lighter than side grain.
 fn say_grain(grain: Option<&ShadingEstimate>, reporter: &dyn Reporter) {
     let Some(est) = grain else {
-        reporter.say("grain shading: the faces do not include both side and end grain");
+        reporter.say(
+            "grain shading: not estimated (it needs at least two end-grain and two side-grain faces)",
+        );
         return;
     };
     let m = &est.model;
