@@ -128,7 +128,7 @@ pub fn shaded_white_balance(
 }
 
 /// The estimate from the mean real RGB of each fitted face and the fibre direction; `None`
-/// when the faces cannot determine it (fewer than 3 faces, or all of one kind of grain).
+/// when the faces cannot determine it (fewer than two faces of either kind of grain).
 pub(crate) fn estimate_grain_shading(
     face_means: &[(Face, [f32; 3])],
     fibre: Vec3,
