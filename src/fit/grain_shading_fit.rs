@@ -135,15 +135,13 @@ pub(crate) fn estimate_grain_shading(
 ) -> Option<ShadingEstimate> {
     let t = fibre.try_normalize()?;
     let n = face_means.len();
-    if n < 3 {
-        return None;
-    }
     let w: Vec<f32> = face_means
         .iter()
         .map(|(f, _)| f.normal().dot(t).powi(2))
         .collect();
     let w_mean = w.iter().sum::<f32>() / n as f32;
     let spread: f32 = w.iter().map(|x| (x - w_mean).powi(2)).sum();
+    // Two faces of each grain also leave the t-test at least 2 degrees of freedom.
     let end_faces = w.iter().filter(|&&x| x >= 0.5).count();
     if spread < MIN_WEIGHT_SPREAD || end_faces.min(n - end_faces) < MIN_FACES_PER_GRAIN {
         return None;
