@@ -405,6 +405,18 @@ fn nca_rows() -> Vec<Row> {
             error(&["loss.inner_planes", "guided"]),
         ),
         row(
+            "nca: low-band blocks that do not divide the crop",
+            N,
+            set(&quick, "loss.low_band_block", Some("5")),
+            error(&["loss.low_band_block", "divide the crop side"]),
+        ),
+        row(
+            "nca: negative low-band weight",
+            N,
+            set(&quick, "loss.low_band", Some("-1.0")),
+            error(&["loss.low_band", "low-band loss weight"]),
+        ),
+        row(
             "nca: pool of a million",
             N,
             set(&quick, "pool.size", Some("1000000")),

@@ -93,7 +93,17 @@ impl Conditioning {
     /// scaled by `cell_scale` (`grain_noise::cell_scale`: 1 in training).
     pub fn for_model(mut self, spec: &ModelSpec, seed: u64, cell_scale: f32) -> Self {
         if spec.conditioning.contains(&CondChannel::GrainNoise) {
-            let noise = GrainNoise::new(&spec.grain_noise, self.fibre_axis, seed, cell_scale);
+            let noise = if spec.grain_noise.follow_rings {
+                GrainNoise::following_rings(
+                    &spec.grain_noise,
+                    self.fibre_axis,
+                    self.growth.clone(),
+                    seed,
+                    cell_scale,
+                )
+            } else {
+                GrainNoise::new(&spec.grain_noise, self.fibre_axis, seed, cell_scale)
+            };
             self.grain = Some(Arc::new(noise));
         }
         self

@@ -132,6 +132,13 @@ pub struct PoolConfig {
 pub struct LossWeights {
     /// Weight of mean |S - clamp(S, -1, 1)|, which keeps the state bounded.
     pub overflow: f32,
+    /// Weight of the low-band term: the root mean square of the colour residual's means over
+    /// blocks of `low_band_block`^3 voxels. B already carries the rings and the colour at
+    /// those scales; the term asks the NCA to add texture that averages out within a block
+    /// instead of repainting them (0 = off, the first versions).
+    pub low_band: f32,
+    /// Side in voxels of the low-band term's blocks; must divide the crop side.
+    pub low_band_block: usize,
     /// Which loss compares the generated faces with the photos.
     pub face: FaceLossKind,
     /// The style loss's config (`[loss.style]`, same keys as `configs/loss/default.toml`,
@@ -232,6 +239,8 @@ impl Default for LossWeights {
     fn default() -> Self {
         Self {
             overflow: 1.0,
+            low_band: 0.0,
+            low_band_block: 8,
             face: FaceLossKind::default(),
             style: LossConfig::default_config(),
             guided: GuidedConfig::default(),
@@ -403,6 +412,30 @@ impl ConfigFile for TrainConfig {
             1000.0,
             "overflow-loss weight",
         )?;
+        l.range(
+            "low_band",
+            self.loss.low_band,
+            0.0,
+            1000.0,
+            "low-band loss weight",
+        )?;
+        let side = self.volume.crop_side();
+        l.count(
+            "low_band_block",
+            self.loss.low_band_block,
+            1,
+            side,
+            "block side in voxels, at most the crop side",
+        )?;
+        if !side.is_multiple_of(self.loss.low_band_block) {
+            return Err(l.error(
+                "low_band_block",
+                format!(
+                    "= {}: must divide the crop side {side}",
+                    self.loss.low_band_block
+                ),
+            ));
+        }
         self.loss.style.validate(&l.nested("style"))?;
         self.loss.guided.validate(&l.nested("guided"))?;
         l.count(

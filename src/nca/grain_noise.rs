@@ -16,6 +16,8 @@
 //! whole volume would, and the key (the config's seed in training, the synthesis seed in
 //! synthesis) makes each synthesis a new realisation of the same statistics.
 
+use std::sync::Arc;
+
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
@@ -41,6 +43,15 @@ pub struct GrainNoiseSpec {
     /// `quality.toml` sets 0.03, measured on hinoki at that scale (BENCHMARKS, "Grain noise
     /// on a softwood"); the quick config on hinoki drew no dashes with the noise and keeps it.
     pub min_vessel_fraction: f32,
+    /// Lay the tubes in the ring surfaces: the noise's coordinate across the rings is the
+    /// growth field G itself (converted to length by G's mean gradient), so a tube follows
+    /// its ring wherever the ring bends, as fibres do; the other two coordinates are the
+    /// fibre axis projected into the cube's mean ring surface and the direction across it
+    /// within that surface. `false` (the first version): straight tubes along one axis,
+    /// which cross the rings wherever they lean away from it (CN03 held-out E: slanted
+    /// streaks over upright rings). Falls back to straight tubes when the cube's rings have
+    /// no mean direction (pith inside the cube).
+    pub follow_rings: bool,
 }
 
 impl Default for GrainNoiseSpec {
@@ -51,6 +62,7 @@ impl Default for GrainNoiseSpec {
             across_mm: 0.3,
             along_mm: 1.5,
             min_vessel_fraction: 0.0,
+            follow_rings: false,
         }
     }
 }
@@ -76,13 +88,22 @@ pub fn cell_scale(training_grid: usize, grid: usize) -> f32 {
 const GRAIN_STREAM: u64 = 0x6752_4149_4E5F_4E5A;
 
 /// Value noise in [-1, 1], stretched along `axis` (1 channel).
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct GrainNoise {
     /// Rows: the two directions across the fibres and the fibre axis, each divided by its
-    /// lattice spacing in cube units, so `frame * p` is the lattice coordinate.
+    /// lattice spacing in cube units, so `frame * p` is the lattice coordinate. With
+    /// `rings`, row 1 is unused: G takes its place.
     frame: [Vec3; 3],
     key: u64,
+    /// G and the factor from G to lattice cells across the rings (`follow_rings`).
+    rings: Option<(Arc<dyn SolidTexture>, f32)>,
 }
+
+/// Side of the grid on which G's mean gradient is measured.
+const GRADIENT_GRID: usize = 8;
+/// The mean gradient direction must be at least this share of the mean gradient length,
+/// else the rings have no mean direction in the cube and the tubes stay straight.
+const MIN_GRADIENT_COHERENCE: f32 = 0.5;
 
 impl GrainNoise {
     /// Noise with cells of `spec` along the unit `axis` (cube frame), realisation `seed`,
@@ -97,18 +118,83 @@ impl GrainNoise {
         Self {
             frame: [e1 / across, e2 / across, t / along],
             key: mix64(seed ^ GRAIN_STREAM),
+            rings: None,
         }
+    }
+
+    /// As [`GrainNoise::new`], with the tubes laid in the iso-surfaces of `growth` (see
+    /// [`GrainNoiseSpec::follow_rings`]); straight tubes when G has no mean direction.
+    pub fn following_rings(
+        spec: &GrainNoiseSpec,
+        axis: Vec3,
+        growth: Arc<dyn SolidTexture>,
+        seed: u64,
+        cell_scale: f32,
+    ) -> Self {
+        let mut noise = Self::new(spec, axis, seed, cell_scale);
+        let Some((normal, g_per_unit)) = mean_gradient(growth.as_ref()) else {
+            return noise;
+        };
+        let t = axis.normalize_or(Vec3::Y);
+        let in_surface = (t - normal * t.dot(normal)).normalize_or_zero();
+        if in_surface == Vec3::ZERO {
+            return noise; // fibres along the ring normal: no surface direction to follow
+        }
+        let across_in_surface = in_surface.cross(normal);
+        let mm_per_unit = CM_PER_UNIT * 10.0;
+        let across = cell_scale * spec.across_mm / mm_per_unit;
+        let along = cell_scale * spec.along_mm / mm_per_unit;
+        noise.frame = [across_in_surface / across, Vec3::ZERO, in_surface / along];
+        noise.rings = Some((growth, 1.0 / (g_per_unit * across)));
+        noise
     }
 
     /// The noise at a point of the cube.
     pub fn value(&self, p: Vec3) -> f32 {
-        let q = Vec3::new(
-            self.frame[0].dot(p),
-            self.frame[1].dot(p),
-            self.frame[2].dot(p),
-        );
+        let across_rings = match &self.rings {
+            Some((growth, cells_per_year)) => {
+                let mut g = [0.0f32];
+                growth.eval(p, &mut g);
+                g[0] * cells_per_year
+            }
+            None => self.frame[1].dot(p),
+        };
+        let q = Vec3::new(self.frame[0].dot(p), across_rings, self.frame[2].dot(p));
         value3(self.key, q)
     }
+}
+
+/// The unit mean gradient of `growth` over the cube and the mean gradient length (G per cube
+/// unit), by central differences on an 8^3 grid; `None` when the gradients do not share a
+/// direction (see [`MIN_GRADIENT_COHERENCE`]) or G is flat.
+fn mean_gradient(growth: &dyn SolidTexture) -> Option<(Vec3, f32)> {
+    let h = 0.5 / GRADIENT_GRID as f32;
+    let g = |p: Vec3| {
+        let mut v = [0.0f32];
+        growth.eval(p, &mut v);
+        v[0]
+    };
+    let (mut sum, mut length, mut n) = (Vec3::ZERO, 0.0f32, 0.0f32);
+    for i in 0..GRADIENT_GRID {
+        for j in 0..GRADIENT_GRID {
+            for k in 0..GRADIENT_GRID {
+                let at = |i: usize| (i as f32 + 0.5) / GRADIENT_GRID as f32 - 0.5;
+                let p = Vec3::new(at(i), at(j), at(k));
+                let d = |e: Vec3| (g(p + e * h) - g(p - e * h)) / (2.0 * h);
+                let grad = Vec3::new(d(Vec3::X), d(Vec3::Y), d(Vec3::Z));
+                if grad.is_finite() {
+                    sum += grad;
+                    length += grad.length();
+                    n += 1.0;
+                }
+            }
+        }
+    }
+    if n == 0.0 || length <= 0.0 {
+        return None;
+    }
+    let coherent = sum.length() >= MIN_GRADIENT_COHERENCE * length;
+    coherent.then(|| (sum.normalize(), length / n))
 }
 
 impl SolidTexture for GrainNoise {
@@ -200,5 +286,71 @@ mod tests {
             .filter(|&q| a.value(q) != b.value(q))
             .count();
         assert!(differ > 40);
+    }
+
+    /// Rings as parallel planes of normal `normal`, `rings_per_unit` of them per cube unit.
+    struct PlaneRings {
+        normal: Vec3,
+        rings_per_unit: f32,
+    }
+
+    impl SolidTexture for PlaneRings {
+        fn channels(&self) -> usize {
+            1
+        }
+        fn eval(&self, p: Vec3, out: &mut [f32]) {
+            out[0] = self.rings_per_unit * self.normal.dot(p);
+        }
+    }
+
+    /// The fibre axis crosses tilted rings by 17 degrees; following the rings, the tubes run
+    /// in the ring planes: the noise changes little along the axis projected into them and
+    /// the straight noise does not.
+    #[test]
+    fn tubes_that_follow_the_rings_lie_in_the_ring_surfaces() {
+        let normal = Vec3::new(0.3, 0.0, 1.0).normalize();
+        let rings: Arc<dyn SolidTexture> = Arc::new(PlaneRings {
+            normal,
+            rings_per_unit: 12.0,
+        });
+        let axis = Vec3::Y;
+        let tilted = (axis + 0.3 * Vec3::Z).normalize(); // 17 degrees out of the ring plane
+        let spec = GrainNoiseSpec::default();
+        let following = GrainNoise::following_rings(&spec, tilted, rings, 4, 1.0);
+        let straight = GrainNoise::new(&spec, tilted, 4, 1.0);
+        let in_plane = (tilted - normal * tilted.dot(normal)).normalize();
+        let cell = 0.3 / (CM_PER_UNIT * 10.0);
+        let along = |n: &GrainNoise, dir: Vec3| mean_change(n, dir * cell);
+        let across = mean_change(&following, normal * cell);
+        let following_along = along(&following, in_plane);
+        let straight_along = along(&straight, in_plane);
+        eprintln!("across {across}, along: following {following_along}, straight {straight_along}");
+        assert!(
+            across > 2.0 * following_along,
+            "across {across}, along {following_along}"
+        );
+        assert!(
+            straight_along > 1.5 * following_along,
+            "straight {straight_along}, following {following_along}"
+        );
+    }
+
+    /// Rings around a pith inside the cube have no mean direction: straight tubes.
+    #[test]
+    fn rings_around_an_inner_pith_keep_straight_tubes() {
+        struct Around;
+        impl SolidTexture for Around {
+            fn channels(&self) -> usize {
+                1
+            }
+            fn eval(&self, p: Vec3, out: &mut [f32]) {
+                out[0] = 10.0 * (p.x * p.x + p.z * p.z).sqrt();
+            }
+        }
+        let spec = GrainNoiseSpec::default();
+        let following = GrainNoise::following_rings(&spec, Vec3::Y, Arc::new(Around), 2, 1.0);
+        let straight = GrainNoise::new(&spec, Vec3::Y, 2, 1.0);
+        let p = Vec3::new(0.1, -0.2, 0.3);
+        assert_eq!(following.value(p), straight.value(p));
     }
 }

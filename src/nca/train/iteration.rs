@@ -255,14 +255,18 @@ impl Trainer {
             start,
             slot,
         } = self.draw(it);
-        let overflow_weight = self.config.loss.overflow;
+        let weights = TermWeights {
+            overflow: self.config.loss.overflow,
+            low_band: self.config.loss.low_band,
+            low_band_block: self.config.loss.low_band_block,
+        };
         let segment = self.config.memory.segment_steps;
         let (isa, device) = (self.isa, self.device.clone());
         let model = self.model.clone();
         let depths = plane_depths(&self.config, it);
         let inputs = self.region_inputs(region)?;
         let start = burn_in_state(&model, start, inputs, isa, burn_in, &device)?;
-        let loss_of = |state| objective(state, inputs, loss, it, &depths, overflow_weight);
+        let loss_of = |state| objective(state, inputs, loss, it, &depths, &weights);
         let out: UnrollGradients = match &inputs.step {
             EngineInputs::Burn(step) => {
                 unroll_gradients(&model, start, step, steps, segment, loss_of)
@@ -300,6 +304,7 @@ impl Trainer {
             loss: out.loss,
             style: term("style"),
             overflow: term("overflow"),
+            low_band: term("low_band"),
             learning_rate: lr,
         })
     }
@@ -407,19 +412,28 @@ fn plane_depths(cfg: &TrainConfig, it: usize) -> Vec<usize> {
         .collect()
 }
 
+/// The weights of the terms beside the face loss (`[loss]`).
+struct TermWeights {
+    overflow: f32,
+    low_band: f32,
+    low_band_block: usize,
+}
+
 /// style(faces of B + state RGB, and the planes at `depths` parallel to them)
-/// + w x mean |S - clamp(S, -1, 1)|.
+/// + w_o x mean |S - clamp(S, -1, 1)| + w_l x low_band(residual).
 fn objective(
     state: Tensor<4>,
     inputs: &RegionInputs,
     loss: &dyn FaceLoss,
     iteration: usize,
     depths: &[usize],
-    overflow_weight: f32,
+    weights: &TermWeights,
 ) -> Objective {
     let device = state.device();
     let norm = &inputs.normalisation;
     let residual = norm.residual_tensor(state.clone().narrow(0, 0, 3), &device); // [3, X, Y, Z]
+    let low_band =
+        (weights.low_band > 0.0).then(|| block_mean_rms(residual.clone(), weights.low_band_block));
     let sum = residual + inputs.colour.clone(); // [3, X, Y, Z]
     let rgb = inputs
         .readout
@@ -436,14 +450,30 @@ fn objective(
     }
     let style = loss.loss(&faces, iteration);
     let overflow = (state.clone() - state.clamp(-1.0, 1.0)).abs().mean();
-    let terms = vec![
+    let mut terms = vec![
         ("style", style.clone().inner().into_scalar::<f32>()),
         ("overflow", overflow.clone().inner().into_scalar::<f32>()),
     ];
-    Objective {
-        total: style + overflow.mul_scalar(overflow_weight),
-        terms,
+    let mut total = style + overflow.mul_scalar(weights.overflow);
+    if let Some(low_band) = low_band {
+        terms.push(("low_band", low_band.clone().inner().into_scalar::<f32>()));
+        total = total + low_band.mul_scalar(weights.low_band);
     }
+    Objective { total, terms }
+}
+
+/// Root mean square of the means of `residual` `[3, X, Y, Z]` over blocks of `block`^3
+/// voxels (the sides are multiples of `block`, checked with the config), as `[1]`.
+fn block_mean_rms(residual: Tensor<4>, block: usize) -> Tensor<1> {
+    let [c, x, y, z] = residual.dims();
+    let (bx, by, bz) = (x / block, y / block, z / block);
+    let means = residual
+        .reshape([c * bx, block, by, block, bz * block])
+        .mean_dim(3)
+        .mean_dim(1) // [c * bx, 1, by, 1, bz * block]
+        .reshape([c * bx * by, bz, block])
+        .mean_dim(2); // [c * bx * by, bz, 1]
+    means.square().mean().add_scalar(1e-12).sqrt()
 }
 
 /// g / (|g| + 1e-8) for each parameter tensor (Mordvintsev et al.): every parameter moves by
@@ -471,4 +501,61 @@ pub(crate) fn check_data(data: &TrainData) -> Result<()> {
         ));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn residual(values: impl Fn(usize, usize, usize, usize) -> f32, side: usize) -> Tensor<4> {
+        let mut data = Vec::with_capacity(3 * side * side * side);
+        for c in 0..3 {
+            for x in 0..side {
+                for y in 0..side {
+                    for z in 0..side {
+                        data.push(values(c, x, y, z));
+                    }
+                }
+            }
+        }
+        tensor_from(data, [3, side, side, side], &Device::default())
+    }
+
+    fn rms(t: Tensor<4>, block: usize) -> f32 {
+        block_mean_rms(t, block).into_scalar::<f32>()
+    }
+
+    #[test]
+    fn texture_that_averages_out_in_a_block_costs_nothing() {
+        // +-0.2 alternating voxel by voxel: every 2^3 and 4^3 block averages to zero.
+        let checker = |_c: usize, x: usize, y: usize, z: usize| {
+            if (x + y + z).is_multiple_of(2) {
+                0.2
+            } else {
+                -0.2
+            }
+        };
+        assert!(rms(residual(checker, 8), 2).abs() < 1e-5);
+        assert!(rms(residual(checker, 8), 4).abs() < 1e-5);
+        // A single voxel's block (block 1) sees the texture itself.
+        assert!((rms(residual(checker, 4), 1) - 0.2).abs() < 1e-5);
+    }
+
+    #[test]
+    fn a_shift_of_one_block_is_measured_in_that_block_alone() {
+        // Channel 1 of the block at x, y, z in [4, 8) is shifted by 0.4: one block of the
+        // 2^3 x 3 channels = 24 has mean 0.4, so the RMS is sqrt(0.16 / 24).
+        let shifted = |c: usize, x: usize, y: usize, z: usize| {
+            if c == 1 && x >= 4 && y >= 4 && z >= 4 {
+                0.4
+            } else {
+                0.0
+            }
+        };
+        let expected = (0.16f32 / 24.0).sqrt();
+        assert!((rms(residual(shifted, 8), 4) - expected).abs() < 1e-5);
+        // Blocks of 8 cover the whole crop: the mean of channel 1 is 0.4 / 8.
+        let expected = ((0.05f32 * 0.05) / 3.0).sqrt();
+        assert!((rms(residual(shifted, 8), 8) - expected).abs() < 1e-5);
+    }
 }

@@ -14,14 +14,18 @@ use crate::report::MetricsTable;
 pub struct LossRow {
     pub iteration: usize,
     pub steps: usize,
-    /// Total loss (style + weighted overflow).
+    /// Total loss (style + weighted overflow + weighted low band).
     pub loss: f32,
     pub style: f32,
     pub overflow: f32,
+    /// The low-band term before its weight (`[loss] low_band`; 0 in logs written before it).
+    pub low_band: f32,
     pub learning_rate: f64,
 }
 
-const HEADER: &str = "iteration,steps,loss,style,overflow,learning_rate";
+const HEADER: &str = "iteration,steps,loss,style,overflow,learning_rate,low_band";
+/// The header of logs written before the low-band term (read as low band 0).
+const HEADER_V1: &str = "iteration,steps,loss,style,overflow,learning_rate";
 
 /// The log as CSV text (floats printed exactly, shortest round-trip form).
 pub fn to_csv(rows: &[LossRow]) -> String {
@@ -35,6 +39,7 @@ pub fn to_csv(rows: &[LossRow]) -> String {
                 &r.style,
                 &r.overflow,
                 &r.learning_rate,
+                &r.low_band,
             ])
         })
         .collect();
@@ -57,15 +62,16 @@ pub(crate) fn read_csv(path: &Path) -> Result<Vec<LossRow>> {
         )
     };
     let mut lines = text.lines().enumerate();
-    match lines.next() {
-        Some((_, h)) if h.trim() == HEADER => {}
+    let columns = match lines.next() {
+        Some((_, h)) if h.trim() == HEADER => 7,
+        Some((_, h)) if h.trim() == HEADER_V1 => 6,
         _ => return Err(bad(0, "unexpected header")),
-    }
+    };
     lines
         .filter(|(_, l)| !l.trim().is_empty())
         .map(|(n, line)| {
             let f: Vec<&str> = line.split(',').collect();
-            if f.len() != 6 {
+            if f.len() != columns {
                 return Err(bad(n, "wrong number of columns"));
             }
             let num = |i: usize| {
@@ -80,7 +86,41 @@ pub(crate) fn read_csv(path: &Path) -> Result<Vec<LossRow>> {
                 style: num(3)? as f32,
                 overflow: num(4)? as f32,
                 learning_rate: num(5)?,
+                low_band: if columns == 7 { num(6)? as f32 } else { 0.0 },
             })
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(iteration: usize, low_band: f32) -> LossRow {
+        LossRow {
+            iteration,
+            steps: 9,
+            loss: 0.5,
+            style: 0.25,
+            overflow: 0.125,
+            low_band,
+            learning_rate: 1e-3,
+        }
+    }
+
+    #[test]
+    fn the_log_round_trips_and_older_logs_read_as_low_band_zero() {
+        let dir = std::env::temp_dir().join(format!("xylem-loss-log-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("loss.csv");
+        let rows = vec![row(0, 0.03125), row(1, 0.0)];
+        write_csv(&path, &rows).unwrap();
+        assert_eq!(read_csv(&path).unwrap(), rows);
+        std::fs::write(&path, format!("{HEADER_V1}\n0,9,0.5,0.25,0.125,0.001\n")).unwrap();
+        assert_eq!(read_csv(&path).unwrap(), vec![row(0, 0.0)]);
+        std::fs::write(&path, format!("{HEADER}\n0,9,0.5,0.25,0.125,0.001\n")).unwrap();
+        let err = read_csv(&path).unwrap_err().to_string();
+        assert!(err.contains("wrong number of columns"), "{err}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }
