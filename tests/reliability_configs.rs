@@ -407,7 +407,11 @@ fn nca_rows() -> Vec<Row> {
         row(
             "nca: low-band blocks that do not divide the crop",
             N,
-            set(&quick, "loss.low_band_block", Some("5")),
+            set(
+                &set(&quick, "loss.low_band", Some("1.0")),
+                "loss.low_band_block",
+                Some("5"),
+            ),
             error(&["loss.low_band_block", "divide the crop side"]),
         ),
         row(
