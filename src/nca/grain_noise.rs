@@ -112,9 +112,7 @@ impl GrainNoise {
         let t = axis.normalize_or(Vec3::Y);
         let e1 = t.any_orthonormal_vector();
         let e2 = t.cross(e1);
-        let mm_per_unit = CM_PER_UNIT * 10.0;
-        let across = cell_scale * spec.across_mm / mm_per_unit;
-        let along = cell_scale * spec.along_mm / mm_per_unit;
+        let (across, along) = cell_sizes(spec, cell_scale);
         Self {
             frame: [e1 / across, e2 / across, t / along],
             key: mix64(seed ^ GRAIN_STREAM),
@@ -141,9 +139,7 @@ impl GrainNoise {
             return noise; // fibres along the ring normal: no surface direction to follow
         }
         let across_in_surface = in_surface.cross(normal);
-        let mm_per_unit = CM_PER_UNIT * 10.0;
-        let across = cell_scale * spec.across_mm / mm_per_unit;
-        let along = cell_scale * spec.along_mm / mm_per_unit;
+        let (across, along) = cell_sizes(spec, cell_scale);
         noise.frame = [across_in_surface / across, Vec3::ZERO, in_surface / along];
         noise.rings = Some((growth, 1.0 / (g_per_unit * across)));
         noise
@@ -162,6 +158,15 @@ impl GrainNoise {
         let q = Vec3::new(self.frame[0].dot(p), across_rings, self.frame[2].dot(p));
         value3(self.key, q)
     }
+}
+
+/// The lattice spacings across and along the fibres in cube units.
+fn cell_sizes(spec: &GrainNoiseSpec, cell_scale: f32) -> (f32, f32) {
+    let mm_per_unit = CM_PER_UNIT * 10.0;
+    (
+        cell_scale * spec.across_mm / mm_per_unit,
+        cell_scale * spec.along_mm / mm_per_unit,
+    )
 }
 
 /// The unit mean gradient of `growth` over the cube and the mean gradient length (G per cube
