@@ -26,7 +26,7 @@ use crate::error::Result;
 use crate::frame::CM_PER_UNIT;
 use crate::procedural::noise::value3;
 use crate::rng::mix64;
-use crate::texture::SolidTexture;
+use crate::texture::{SolidTexture, first_channel};
 
 /// Cell sizes of the grain noise (`[model.grain_noise]`), used when the conditioning lists
 /// `grain_noise`.
@@ -148,11 +148,7 @@ impl GrainNoise {
     /// The noise at a point of the cube.
     pub fn value(&self, p: Vec3) -> f32 {
         let across_rings = match &self.rings {
-            Some((growth, cells_per_year)) => {
-                let mut g = [0.0f32];
-                growth.eval(p, &mut g);
-                g[0] * cells_per_year
-            }
+            Some((growth, cells_per_year)) => first_channel(growth.as_ref(), p) * cells_per_year,
             None => self.frame[1].dot(p),
         };
         let q = Vec3::new(self.frame[0].dot(p), across_rings, self.frame[2].dot(p));
@@ -174,16 +170,12 @@ fn cell_sizes(spec: &GrainNoiseSpec, cell_scale: f32) -> (f32, f32) {
 /// direction (see [`MIN_GRADIENT_COHERENCE`]) or G is flat.
 fn mean_gradient(growth: &dyn SolidTexture) -> Option<(Vec3, f32)> {
     let h = 0.5 / GRADIENT_GRID as f32;
-    let g = |p: Vec3| {
-        let mut v = [0.0f32];
-        growth.eval(p, &mut v);
-        v[0]
-    };
+    let g = |p: Vec3| first_channel(growth, p);
+    let at = |i: usize| (i as f32 + 0.5) / GRADIENT_GRID as f32 - 0.5;
     let (mut sum, mut length, mut n) = (Vec3::ZERO, 0.0f32, 0.0f32);
     for i in 0..GRADIENT_GRID {
         for j in 0..GRADIENT_GRID {
             for k in 0..GRADIENT_GRID {
-                let at = |i: usize| (i as f32 + 0.5) / GRADIENT_GRID as f32 - 0.5;
                 let p = Vec3::new(at(i), at(j), at(k));
                 let d = |e: Vec3| (g(p + e * h) - g(p - e * h)) / (2.0 * h);
                 let grad = Vec3::new(d(Vec3::X), d(Vec3::Y), d(Vec3::Z));
