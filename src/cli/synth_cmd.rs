@@ -16,10 +16,10 @@ use super::progress::CliReporter;
   xylem synth --model out/cn03-nca --steps 90 --out out/cn03-synth
 
 Writes DIR/volume.npy (float32 [N, N, N, 3], RGB; nothing is clamped: models trained with
-the shipped configs stay near [0, 1] (measured in BENCHMARKS.md: a few hundred of 50 M
-values outside, by up to 0.25, after 256 steps on the demo sample), models trained with
-[model] readout = \"saturating\" or \"bounded\" inside it by construction; the command
-prints the range and how many values fall outside; axes x, y, z as every xylem volume), DIR/faces/A.png..F.png,
+the shipped configs ([model] readout = \"saturating\") or with \"bounded\" stay inside
+[0, 1] by construction, models with readout = \"residual\" near it (BENCHMARKS.md: a few
+hundred to a few thousand of 50 M values outside, by up to 0.25); the command prints the
+range and how many values fall outside; axes x, y, z as every xylem volume), DIR/faces/A.png..F.png,
 DIR/cuts/cut1.png, DIR/cuts/cut2.png, DIR/unfolded.png (PNGs clamp colour to [0, 1]; seen
 with the fit's grain shading when it has one: end grain darker than side grain, DESIGN
 \"Grain shading\"; volume.npy holds the plain colour) and DIR/model.toml (the model's
