@@ -15,6 +15,8 @@ use crate::config::{Checker, ConfigFile};
 use crate::error::Result;
 use crate::loss::{GuidedConfig, LossConfig};
 
+/// Largest training volume side (`[volume] size`), so also the largest crop side.
+const MAX_VOLUME_SIDE: usize = 1024;
 /// Everything `xylem train` needs besides the sample and the fit.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -352,7 +354,13 @@ impl ConfigFile for TrainConfig {
     fn validate(&self, check: &Checker) -> Result<()> {
         self.model.validate(&check.nested("model"))?;
         let v = check.nested("volume");
-        v.count("size", self.volume.size, 4, 1024, "training volume side")?;
+        v.count(
+            "size",
+            self.volume.size,
+            4,
+            MAX_VOLUME_SIDE,
+            "training volume side",
+        )?;
         v.count(
             "crop",
             self.volume.crop,
@@ -421,13 +429,13 @@ impl ConfigFile for TrainConfig {
         )?;
         let side = self.volume.crop_side();
         // The block matters only when the term is on (the default block need not fit the
-        // tests' tiny crops).
+        // tests' tiny crops); unused, it need only fit the largest crop there can be.
         let block_used = self.loss.low_band > 0.0;
         l.count(
             "low_band_block",
             self.loss.low_band_block,
             1,
-            if block_used { side } else { 1024 },
+            if block_used { side } else { MAX_VOLUME_SIDE },
             "block side in voxels, at most the crop side",
         )?;
         if block_used && !side.is_multiple_of(self.loss.low_band_block) {
