@@ -444,31 +444,21 @@ fn export_infers_the_format_and_guards_colour() {
 /// grain darker by the fitted factor), and without the flag the same slice is plain.
 #[test]
 fn slice_sees_a_volume_with_a_fits_grain_shading() {
-    use xylem::field::{BaseColour, GrainShading, WhiteBalance};
+    use xylem::field::GrainShading;
     let dir = scratch("slice-grain-shading");
     std::fs::create_dir_all(dir.path()).unwrap();
     let volume = dir.path().join("v.npy");
     let grey = xylem::Volume::from_data([4, 4, 4], 3, vec![0.5; 4 * 4 * 4 * 3]).unwrap();
     xylem::io::npy::write_volume(&volume, &grey).unwrap();
     let mut field = xylem::presets::load_field_preset("straight").unwrap();
-    field.base_colour = Some(BaseColour {
-        g_range: [0.0, 20.0],
-        bar: vec![[0.5; 3], [0.5; 3]],
-        knot_bar: vec![],
-        knot_blend: 1.0,
-        face_offsets: [[0.0; 3]; 6],
-        mean_shift: [0.0; 3],
-        white_balance: WhiteBalance {
-            face_means: [[0.6; 3]; 6],
-            mean: [0.6; 3],
-            grain: Some(GrainShading {
-                fibre: [0.0, 1.0, 0.0],
-                side: [0.66; 3],
-                end: [0.42; 3],
-                t_statistic: -3.0,
-            }),
-        },
+    let mut colour = common::flat_base_colour([0.6; 3]);
+    colour.white_balance.grain = Some(GrainShading {
+        fibre: [0.0, 1.0, 0.0],
+        side: [0.66; 3],
+        end: [0.42; 3],
+        t_statistic: -3.0,
     });
+    field.base_colour = Some(colour);
     let fit = dir.path().join("fit.toml");
     xylem::config::write_config_copy(&fit, &field, "test").unwrap();
     let slice_mean = |plane: &str, shaded: bool| -> f32 {

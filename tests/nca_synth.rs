@@ -6,7 +6,7 @@ mod common;
 
 use burn::module::Param;
 use burn::tensor::Device;
-use xylem::field::{BaseColour, FieldConfig, WhiteBalance};
+use xylem::field::FieldConfig;
 use xylem::frame::Face;
 use xylem::nca::CondChannel;
 use xylem::nca::ModelSpec;
@@ -62,20 +62,9 @@ fn options(engine: Engine) -> SynthOptions {
 /// A fitted field: a preset with a two-node base colour bar, as `xylem fit` writes it.
 fn fitted(preset: &str) -> FieldConfig {
     let mut field = load_field_preset(preset).unwrap();
-    let mean = [0.6, 0.45, 0.3];
-    field.base_colour = Some(BaseColour {
-        g_range: [0.0, 20.0],
-        bar: vec![[0.6, 0.5, 0.45], [0.35, 0.3, 0.25]],
-        knot_bar: vec![],
-        knot_blend: 1.0,
-        face_offsets: [[0.0; 3]; 6],
-        mean_shift: [0.0; 3],
-        white_balance: WhiteBalance {
-            face_means: [mean; 6],
-            mean,
-            grain: None,
-        },
-    });
+    let mut colour = common::flat_base_colour([0.6, 0.45, 0.3]);
+    colour.bar = vec![[0.6, 0.5, 0.45], [0.35, 0.3, 0.25]];
+    field.base_colour = Some(colour);
     field
 }
 

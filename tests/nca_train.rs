@@ -784,3 +784,50 @@ fn a_non_finite_loss_skips_its_update_and_a_diverged_rule_stops_the_run() {
         ],
     );
 }
+
+/// `target_colour = "shown"` scales every target to the base colour's mean with the fit's
+/// mean shift (what B plus dark pores must average to), `base` to the ground colour B's
+/// mean: with a flat bar at 0.5 and shifts -0.05, 0, +0.05 the shown targets' channel means
+/// are 0.9, 1.0 and 1.1 times the base targets'.
+#[test]
+fn shown_targets_carry_the_fits_mean_shift() {
+    use xylem::nca::config::TargetColour;
+    use xylem::nca::fit_source::FitRecord;
+    let (_dir, sample_dir) = scratch_with_sample("nca_shown_targets");
+    let sample = Sample::load(
+        &sample_dir,
+        &Face::ALL,
+        Needs {
+            photos: true,
+            arl: false,
+        },
+    )
+    .unwrap();
+    let mut field = load_field_preset("distorted").unwrap();
+    let mut colour = common::flat_base_colour([0.6, 0.45, 0.3]);
+    colour.mean_shift = [-0.05, 0.0, 0.05];
+    field.base_colour = Some(colour);
+    let fit = FitRecord {
+        field,
+        base_colour: None,
+    };
+    let target_means = |target_colour: TargetColour| {
+        let mut cfg = tiny_config(1, 6, 0);
+        cfg.loss.target_colour = target_colour;
+        let data = TrainData::prepare(&sample, fit.clone(), &cfg);
+        data.targets[Face::A.index()]
+            .as_ref()
+            .unwrap()
+            .channel_means()
+    };
+    let base = target_means(TargetColour::Base);
+    let shown = target_means(TargetColour::Shown);
+    for (c, ratio) in [0.9f32, 1.0, 1.1].into_iter().enumerate() {
+        assert!(
+            (shown[c] / base[c] - ratio).abs() < 1e-4,
+            "channel {c}: shown {} base {}",
+            shown[c],
+            base[c]
+        );
+    }
+}

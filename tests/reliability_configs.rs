@@ -415,6 +415,12 @@ fn nca_rows() -> Vec<Row> {
             error(&["loss.low_band_block", "divide the crop side"]),
         ),
         row(
+            "nca: unknown low-band reference",
+            N,
+            set(&quick, "loss.low_band_reference", Some("\"median\"")),
+            error(&["unknown variant `median`", "crop_mean"]),
+        ),
+        row(
             "nca: negative low-band weight",
             N,
             set(&quick, "loss.low_band", Some("-1.0")),

@@ -141,6 +141,10 @@ pub struct LossWeights {
     pub low_band: f32,
     /// Side in voxels of the low-band term's blocks; must divide the crop side.
     pub low_band_block: usize,
+    /// What the block means are held to: `zero`, `crop_mean` (only their spread around
+    /// the crop's own mean colour residual costs) or `ring_phase` (the residual less its
+    /// mean per ring-phase bin over the crop); DESIGN "Low band reference".
+    pub low_band_reference: LowBandReference,
     /// Which loss compares the generated faces with the photos.
     pub face: FaceLossKind,
     /// The style loss's config (`[loss.style]`, same keys as `configs/loss/default.toml`,
@@ -155,9 +159,30 @@ pub struct LossWeights {
     /// iteration.
     pub inner_planes: usize,
     /// What colour the targets have: `base` (each face photo scaled so its mean is the base
-    /// colour's mean on that face: the NCA adds texture, not a colour shift) or `face` (each
+    /// colour's mean on that face: the NCA adds texture, not a colour shift), `shown` (the
+    /// same with the base colour's mean shift: the mean the photos have where the ground
+    /// colour B has its median, so the NCA's dark pores may darken B to it) or `face` (each
     /// photo divided by twice its own mean, DESIGN section 6 as first written).
     pub target_colour: TargetColour,
+}
+
+/// What the low-band term holds the residual's block means to (see
+/// [`LossWeights::low_band_reference`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LowBandReference {
+    /// Every block mean at 0: the NCA adds no colour to B at the block's scale (variant lr).
+    #[default]
+    Zero,
+    /// Every block mean at the mean over the crop's blocks (per channel): the residual may
+    /// darken (or lighten) the whole crop, as dark pores on the ground colour must, but
+    /// may not paint bands or blotches at the block's scale.
+    CropMean,
+    /// Every voxel's residual first less the crop's mean residual in its ring-phase bin
+    /// (`nca::train::low_band`): the residual may also differ between earlywood and
+    /// latewood, as pores packed in the earlywood make it, but not otherwise at the block's
+    /// scale.
+    RingPhase,
 }
 
 /// The colour of the training targets (see [`LossWeights::target_colour`]).
@@ -166,6 +191,7 @@ pub struct LossWeights {
 pub enum TargetColour {
     #[default]
     Base,
+    Shown,
     Face,
 }
 
@@ -243,6 +269,7 @@ impl Default for LossWeights {
             overflow: 1.0,
             low_band: 0.0,
             low_band_block: 8,
+            low_band_reference: LowBandReference::default(),
             face: FaceLossKind::default(),
             style: LossConfig::default_config(),
             guided: GuidedConfig::default(),

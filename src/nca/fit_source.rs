@@ -113,6 +113,21 @@ impl FitRecord {
         }
     }
 
+    /// The base colour as a prediction of the photos' mean colour in a cut or volume: the
+    /// ground colour B shifted by the fit's mean shift (`ColourSpace::Shown(None)`), what
+    /// B plus the NCA's dark pores should average to. The stand-in ramp has no shift: its
+    /// own colours.
+    pub fn shown_colour(&self) -> Arc<dyn SolidTexture> {
+        match (&self.base_colour, &self.field.base_colour) {
+            (None, Some(fitted)) => Arc::new(BaseColourTexture::new(
+                GrowthField::from_config(&self.field),
+                fitted.clone(),
+                ColourSpace::Shown(None),
+            )),
+            _ => self.conditioning().colour,
+        }
+    }
+
     /// B and G as solid textures (B in photo colours).
     pub fn conditioning(&self) -> Conditioning {
         let field = Arc::new(GrowthField::from_config(&self.field));

@@ -240,3 +240,22 @@ pub fn max_abs_diff(a: &[f32], b: &[f32]) -> f32 {
         .map(|(x, y)| (x - y).abs())
         .fold(0.0f32, f32::max)
 }
+
+/// A fitted base colour for tests: a flat two-node bar at 0.5 over G in [0, 20], photos of
+/// mean colour `mean` on every face, no face offsets, no mean shift, no grain shading
+/// (callers change what they test).
+pub fn flat_base_colour(mean: [f32; 3]) -> xylem::field::BaseColour {
+    xylem::field::BaseColour {
+        g_range: [0.0, 20.0],
+        bar: vec![[0.5; 3], [0.5; 3]],
+        knot_bar: vec![],
+        knot_blend: 1.0,
+        face_offsets: [[0.0; 3]; 6],
+        mean_shift: [0.0; 3],
+        white_balance: xylem::field::WhiteBalance {
+            face_means: [mean; 6],
+            mean,
+            grain: None,
+        },
+    }
+}

@@ -20,6 +20,7 @@ use burn::tensor::{Device, Tensor};
 use super::face_guides::{GUIDE_CHANNELS, phase_channels, phase_guides};
 use super::loss::FaceLoss;
 use super::loss_log::LossRow;
+use super::low_band::{LowBand, phase_bins};
 use super::placement::draw_region;
 use super::pool::{Pool, Start};
 use super::targets::{face_targets, match_base_means};
@@ -30,7 +31,7 @@ use crate::image2::Image2;
 use crate::nca::checkpoint::{Objective, UnrollGradients, unroll_gradients};
 use crate::nca::colour_axes::colour_projection;
 use crate::nca::conditioning::{Conditioning, Normalisation};
-use crate::nca::config::{Engine, TargetColour, TrainConfig};
+use crate::nca::config::{Engine, LowBandReference, TargetColour, TrainConfig};
 use crate::nca::faces::{FacePatch, face_patches, inner_patches, layout};
 use crate::nca::fit_source::FitRecord;
 use crate::nca::fused::{FixedInputs, Isa, MlpWeights, Stepper, burn_bridge};
@@ -70,13 +71,13 @@ impl TrainData {
             .conditioning()
             .for_model(&config.model, config.seed, 1.0);
         let mut normalisation = conditioning.normalisation(photo_mean);
-        if config.loss.target_colour == TargetColour::Base {
-            match_base_means(
-                &mut targets,
-                conditioning.colour.as_ref(),
-                &normalisation,
-                grid,
-            );
+        let mean_source = match config.loss.target_colour {
+            TargetColour::Base => Some(conditioning.colour.clone()),
+            TargetColour::Shown => Some(fit.shown_colour()),
+            TargetColour::Face => None,
+        };
+        if let Some(source) = mean_source {
+            match_base_means(&mut targets, source.as_ref(), &normalisation, grid);
         }
         normalisation.colour_projection = colour_projection(&targets, config.model.colour_axes);
         let guides = phase_guides(conditioning.growth.as_ref(), &sample.faces, grid);
@@ -111,6 +112,9 @@ struct RegionInputs {
     readout: Readout,
     /// The white balance and colour projection the readout and the residual need.
     normalisation: Normalisation,
+    /// Ring-phase bin of every voxel (`low_band::phase_bins`), `[X * Y * Z]`; empty unless
+    /// the low band's reference is the ring phase.
+    phase_bins: Vec<u8>,
 }
 
 /// What an iteration starts from.
@@ -258,7 +262,10 @@ impl Trainer {
         let weights = TermWeights {
             overflow: self.config.loss.overflow,
             low_band: self.config.loss.low_band,
-            low_band_block: self.config.loss.low_band_block,
+            low_band_shape: LowBand {
+                block: self.config.loss.low_band_block,
+                reference: self.config.loss.low_band_reference,
+            },
         };
         let segment = self.config.memory.segment_steps;
         let (isa, device) = (self.isa, self.device.clone());
@@ -357,6 +364,12 @@ fn region_inputs(
         .copied()
         .filter(|&f| layout(f).touches(&region))
         .collect();
+    let phase_bins =
+        if cfg.loss.low_band > 0.0 && cfg.loss.low_band_reference == LowBandReference::RingPhase {
+            phase_bins(&vols.g.data)
+        } else {
+            Vec::new()
+        };
     let [x, y, z] = region.dims;
     let guide = tensor_from(
         phase_channels(&vols.g.data),
@@ -371,6 +384,7 @@ fn region_inputs(
         readout: cfg.model.readout,
         normalisation: data.normalisation.clone(),
         guide,
+        phase_bins,
     })
 }
 
@@ -416,7 +430,7 @@ fn plane_depths(cfg: &TrainConfig, it: usize) -> Vec<usize> {
 struct TermWeights {
     overflow: f32,
     low_band: f32,
-    low_band_block: usize,
+    low_band_shape: LowBand,
 }
 
 /// style(faces of B + state RGB, and the planes at `depths` parallel to them)
@@ -432,8 +446,11 @@ fn objective(
     let device = state.device();
     let norm = &inputs.normalisation;
     let residual = norm.residual_tensor(state.clone().narrow(0, 0, 3), &device); // [3, X, Y, Z]
-    let low_band =
-        (weights.low_band > 0.0).then(|| block_mean_rms(residual.clone(), weights.low_band_block));
+    let low_band = (weights.low_band > 0.0).then(|| {
+        weights
+            .low_band_shape
+            .term(residual.clone(), &inputs.phase_bins)
+    });
     let sum = residual + inputs.colour.clone(); // [3, X, Y, Z]
     let rgb = inputs
         .readout
@@ -462,20 +479,6 @@ fn objective(
     Objective { total, terms }
 }
 
-/// Root mean square of the means of `residual` `[3, X, Y, Z]` over blocks of `block`^3
-/// voxels (the sides are multiples of `block`, checked with the config), as `[1]`.
-fn block_mean_rms(residual: Tensor<4>, block: usize) -> Tensor<1> {
-    let [c, x, y, z] = residual.dims();
-    let (bx, by, bz) = (x / block, y / block, z / block);
-    let means = residual
-        .reshape([c * bx, block, by, block, bz * block])
-        .mean_dim(3)
-        .mean_dim(1) // [c * bx, 1, by, 1, bz * block]
-        .reshape([c * bx * by, bz, block])
-        .mean_dim(2); // [c * bx * by, bz, 1]
-    means.square().mean().add_scalar(1e-12).sqrt()
-}
-
 /// g / (|g| + 1e-8) for each parameter tensor (Mordvintsev et al.): every parameter moves by
 /// about the learning rate whatever the loss scale.
 fn normalise_gradients(model: &Nca, mut grads: GradientsParams) -> GradientsParams {
@@ -501,61 +504,4 @@ pub(crate) fn check_data(data: &TrainData) -> Result<()> {
         ));
     }
     Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn residual(values: impl Fn(usize, usize, usize, usize) -> f32, side: usize) -> Tensor<4> {
-        let mut data = Vec::with_capacity(3 * side * side * side);
-        for c in 0..3 {
-            for x in 0..side {
-                for y in 0..side {
-                    for z in 0..side {
-                        data.push(values(c, x, y, z));
-                    }
-                }
-            }
-        }
-        tensor_from(data, [3, side, side, side], &Device::default())
-    }
-
-    fn rms(t: Tensor<4>, block: usize) -> f32 {
-        block_mean_rms(t, block).into_scalar::<f32>()
-    }
-
-    #[test]
-    fn texture_that_averages_out_in_a_block_costs_nothing() {
-        // +-0.2 alternating voxel by voxel: every 2^3 and 4^3 block averages to zero.
-        let checker = |_c: usize, x: usize, y: usize, z: usize| {
-            if (x + y + z).is_multiple_of(2) {
-                0.2
-            } else {
-                -0.2
-            }
-        };
-        assert!(rms(residual(checker, 8), 2).abs() < 1e-5);
-        assert!(rms(residual(checker, 8), 4).abs() < 1e-5);
-        // A single voxel's block (block 1) sees the texture itself.
-        assert!((rms(residual(checker, 4), 1) - 0.2).abs() < 1e-5);
-    }
-
-    #[test]
-    fn a_shift_of_one_block_is_measured_in_that_block_alone() {
-        // Channel 1 of the block at x, y, z in [4, 8) is shifted by 0.4: one block of the
-        // 2^3 x 3 channels = 24 has mean 0.4, so the RMS is sqrt(0.16 / 24).
-        let shifted = |c: usize, x: usize, y: usize, z: usize| {
-            if c == 1 && x >= 4 && y >= 4 && z >= 4 {
-                0.4
-            } else {
-                0.0
-            }
-        };
-        let expected = (0.16f32 / 24.0).sqrt();
-        assert!((rms(residual(shifted, 8), 4) - expected).abs() < 1e-5);
-        // Blocks of 8 cover the whole crop: the mean of channel 1 is 0.4 / 8.
-        let expected = ((0.05f32 * 0.05) / 3.0).sqrt();
-        assert!((rms(residual(shifted, 8), 8) - expected).abs() < 1e-5);
-    }
 }

@@ -20,6 +20,7 @@ pub mod guided_face_loss;
 pub mod iteration;
 pub mod loss;
 pub mod loss_log;
+pub mod low_band;
 pub mod placement;
 pub mod plot;
 pub mod pool;
