@@ -40,7 +40,7 @@ impl LowBand {
     pub fn term(&self, residual: Tensor<4>, bins: &[u8]) -> Tensor<1> {
         let deviations = match self.reference {
             LowBandReference::RingPhase => minus_phase_means(residual, bins),
-            _ => residual,
+            LowBandReference::Zero | LowBandReference::CropMean => residual,
         };
         let means = block_means(deviations, self.block); // [3, blocks]
         let centred = match self.reference {
