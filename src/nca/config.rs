@@ -143,7 +143,8 @@ pub struct LossWeights {
     pub low_band_block: usize,
     /// What the block means are held to: `zero`, `crop_mean` (only their spread around
     /// the crop's own mean colour residual costs) or `ring_phase` (the residual less its
-    /// mean per ring-phase bin over the crop); DESIGN "Low band reference".
+    /// mean per ring-phase bin over the crop); DESIGN "Low band reference and shown
+    /// targets".
     pub low_band_reference: LowBandReference,
     /// Which loss compares the generated faces with the photos.
     pub face: FaceLossKind,

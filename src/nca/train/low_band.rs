@@ -1,6 +1,7 @@
 //! The low-band term of the training loss (`[loss] low_band`): the root mean square of the
 //! colour residual's means over blocks of `low_band_block`^3 voxels, each block mean taken
-//! from a reference (`[loss] low_band_reference`, DESIGN "Low band reference"):
+//! from a reference (`[loss] low_band_reference`; DESIGN "Low band reference and shown
+//! targets"):
 //! - `zero`: B already carries the rings and the colour at the block's scale, the NCA adds
 //!   texture that averages out within a block;
 //! - `crop_mean`: the residual may shift the whole crop's colour (dark pores on the ground
