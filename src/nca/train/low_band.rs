@@ -144,6 +144,15 @@ mod tests {
         bins
     }
 
+    /// Channel 1 at +0.4 in the 4^3 block at x, y, z in [4, 8) of an 8^3 region, 0 elsewhere.
+    fn one_block_shifted(c: usize, x: usize, y: usize, z: usize) -> f32 {
+        if c == 1 && x >= 4 && y >= 4 && z >= 4 {
+            0.4
+        } else {
+            0.0
+        }
+    }
+
     #[test]
     fn texture_that_averages_out_in_a_block_costs_nothing() {
         // +-0.2 alternating voxel by voxel: every 2^3 and 4^3 block averages to zero.
@@ -164,18 +173,11 @@ mod tests {
     fn a_shift_of_one_block_is_measured_in_that_block_alone() {
         // Channel 1 of the block at x, y, z in [4, 8) is shifted by 0.4: one block of the
         // 2^3 x 3 channels = 24 has mean 0.4, so the RMS is sqrt(0.16 / 24).
-        let shifted = |c: usize, x: usize, y: usize, z: usize| {
-            if c == 1 && x >= 4 && y >= 4 && z >= 4 {
-                0.4
-            } else {
-                0.0
-            }
-        };
         let expected = (0.16f32 / 24.0).sqrt();
-        assert!((rms(residual(shifted, 8), 4) - expected).abs() < 1e-5);
+        assert!((rms(residual(one_block_shifted, 8), 4) - expected).abs() < 1e-5);
         // Blocks of 8 cover the whole crop: the mean of channel 1 is 0.4 / 8.
         let expected = ((0.05f32 * 0.05) / 3.0).sqrt();
-        assert!((rms(residual(shifted, 8), 8) - expected).abs() < 1e-5);
+        assert!((rms(residual(one_block_shifted, 8), 8) - expected).abs() < 1e-5);
     }
 
     #[test]
@@ -186,15 +188,8 @@ mod tests {
         assert!(spread(residual(darker, 8), 4).abs() < 1e-5);
         // One block of channel 1 at +0.4: the crop mean of that channel is 0.05, the
         // deviations 0.35 once and -0.05 seven times, over 24 block means.
-        let shifted = |c: usize, x: usize, y: usize, z: usize| {
-            if c == 1 && x >= 4 && y >= 4 && z >= 4 {
-                0.4
-            } else {
-                0.0
-            }
-        };
         let expected = ((0.35f32 * 0.35 + 7.0 * 0.05 * 0.05) / 24.0).sqrt();
-        assert!((spread(residual(shifted, 8), 4) - expected).abs() < 1e-5);
+        assert!((spread(residual(one_block_shifted, 8), 4) - expected).abs() < 1e-5);
     }
 
     #[test]
