@@ -87,7 +87,7 @@ pub fn load_species_preset(name: &str) -> crate::Result<SpeciesConfig> {
 /// `configs/nca/quality.toml` (the default of `xylem run`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum NcaPreset {
-    /// 128^3 grid, 1500 iterations: the demo.
+    /// 128^3 grid, 1500 iterations of 24^3 crops: the demo.
     Quick,
     /// Native 256 px / 256^3, 3000 iterations.
     Quality,
