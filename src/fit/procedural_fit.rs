@@ -3,7 +3,7 @@
 //!
 //! For every species preset of the config's `[procedural] presets` (by default all but `burl`,
 //! a figure rather than a species and 30x slower), on the fitted faces at `search_size`
-//! pixels (128 keeps a whole fit of five presets near 27 s on 2 cores):
+//! pixels (128 keeps a whole fit of five presets, on parallel tasks, near 22 s on 2 cores):
 //! 1. the preset on the fitted field: its pith, rate grid, rings and knots replace the
 //!    preset's, so its rings lie where the photos' do;
 //! 2. the ring phase offset (`rings.phase_offset`) that best aligns the preset's pore density
@@ -29,6 +29,8 @@
 //! Not fitted: pore and ray sizes, ray density, ring profile and the colour maps' shape stay
 //! the chosen preset's. Without step 4 the style loss picked maple (no visible pores) for
 //! chestnut CN03: the presets' pores are darker than any photo's.
+
+use rayon::prelude::*;
 
 use super::config::ProceduralFitConfig;
 use super::procedural_search::search;
@@ -109,17 +111,49 @@ pub fn fit_procedural(
     let Some(targets) = Targets::new(photos, fit, cfg.search_size, comparer)? else {
         return Ok(None);
     };
-    let mut candidates = Vec::new();
-    for (i, name) in cfg.presets.iter().enumerate() {
-        candidates.push(fit_preset(name, fit, &targets, cfg.rounds, comparer)?);
-        progress(i + 1, cfg.presets.len());
-    }
+    let candidates = fit_presets_in_parallel(cfg, fit, &targets, comparer, &mut progress)?;
     let best = candidates
         .iter()
         .min_by(|a, b| a.style.total_cmp(&b.style))
         .cloned()
         .expect("at least one preset");
     Ok(Some(ProceduralFit { best, candidates }))
+}
+
+/// Every preset of `cfg` fitted on its own rayon task (each fit is deterministic and
+/// independent, and the results come back in the presets' order, so the outcome does not
+/// depend on the threads): much of one preset's fit is single-threaded (the style loss),
+/// and the five presets of the default overlap on 2 cores. `progress` runs on the calling
+/// thread, told by the tasks as each preset finishes.
+fn fit_presets_in_parallel(
+    cfg: &ProceduralFitConfig,
+    fit: &FieldConfig,
+    targets: &Targets,
+    comparer: &Comparer,
+    progress: &mut impl FnMut(usize, usize),
+) -> Result<Vec<Candidate>> {
+    let total = cfg.presets.len();
+    let (done, finished) = std::sync::mpsc::channel::<()>();
+    std::thread::scope(|scope| {
+        let tasks = scope.spawn(move || {
+            cfg.presets
+                .par_iter()
+                .map_with(done, |done, name| {
+                    let candidate = fit_preset(name, fit, targets, cfg.rounds, comparer);
+                    // The receiver outlives every task; a failed send only means no progress.
+                    let _ = done.send(());
+                    candidate
+                })
+                .collect::<Result<Vec<_>>>()
+        });
+        // Ends when every task's sender is dropped, i.e. when the tasks are done.
+        for (i, ()) in finished.iter().enumerate() {
+            progress(i + 1, total);
+        }
+        tasks
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
+    })
 }
 
 impl Targets {
