@@ -834,6 +834,48 @@ fn fit_procedural_of(
         .expect("photos and presets to fit")
 }
 
+/// The presets of the inverse procedural fit run on parallel tasks: the candidates, their
+/// order and the winner are the same on one thread as on two.
+#[test]
+fn the_inverse_procedural_fit_does_not_depend_on_the_threads() {
+    use xylem::fit::ProceduralFitConfig;
+    let dir = common::scratch("fit-procedural-threads");
+    let truth = xylem::presets::load_species_preset("oak").unwrap();
+    let out = xylem::io::OutputDir::prepare(&dir).unwrap();
+    xylem::procedural::synthetic::write_sample(&truth, "test", 48, &out).unwrap();
+    let sample = load_all(&dir);
+    let field = fit_sample(&sample, &quick_config(), &mut |_, _, _| {})
+        .unwrap()
+        .field;
+    let cfg = ProceduralFitConfig {
+        presets: vec!["oak".into(), "maple".into(), "softwood".into()],
+        rounds: 1,
+        ..ProceduralFitConfig::default()
+    };
+    let on = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| fit_procedural_of(&sample, &field, &cfg))
+    };
+    let (one, two) = (on(1), on(2));
+    let names = |f: &xylem::fit::procedural_fit::ProceduralFit| {
+        f.candidates
+            .iter()
+            .map(|c| c.preset.clone())
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(names(&one), ["oak", "maple", "softwood"]);
+    assert_eq!(names(&one), names(&two));
+    for (a, b) in one.candidates.iter().zip(&two.candidates) {
+        assert_eq!(a.species, b.species, "{}", a.preset);
+        assert_eq!(a.style.to_bits(), b.style.to_bits(), "{}", a.preset);
+        assert_eq!(a.phase_correlation.to_bits(), b.phase_correlation.to_bits());
+    }
+    assert_eq!(one.best.preset, two.best.preset);
+}
+
 /// Issue 14: the inverse procedural fit on a sample of a preset finds that preset and comes
 /// back near its parameters (the numbers are printed for BENCHMARKS.md).
 #[test]
