@@ -62,6 +62,13 @@ pub struct FilterConfig {
     /// and a norm above 1 weighs them above the unit-norm filters in every projection.
     #[serde(default)]
     pub chroma: f32,
+    /// Sigma (px) of a Gaussian the random filters' white noise is smoothed with before it
+    /// is made zero-mean (0, the default: white noise). White zero-mean kernels respond
+    /// mostly to the finest scale, so pores one pixel wide and flecks between them cost as
+    /// little as pores two pixels wide; smoothed kernels respond to the 1-4 px band where a
+    /// 2 px pore lives (BENCHMARKS "Are the held-out pores thin because the photos are soft?").
+    #[serde(default)]
+    pub random_smoothing: f32,
 }
 
 fn default_elongation() -> f32 {
@@ -191,6 +198,13 @@ impl FilterConfig {
             check,
             self.chroma > 0.0,
             "`chroma` > 0: chroma-edge filters",
+        )?;
+        check.range(
+            "random_smoothing",
+            self.random_smoothing,
+            0.0,
+            4.0,
+            "sigma (px) of the random filters' smoothing (0: white)",
         )?;
         if self.random + self.orientations == 0 {
             return Err(check.error("random", "= 0 and `orientations` = 0: the bank is empty"));

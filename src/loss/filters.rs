@@ -41,7 +41,7 @@ pub(crate) fn filter_banks(cfg: &FilterConfig, seed: u64, device: &Device) -> Ve
             let mut rng = Rng::substream(seed, 0x4649_4c54 + i as u64);
             let mut data = Vec::new();
             for _ in 0..cfg.random {
-                data.extend(random_filter(&mut rng, k));
+                data.extend(random_filter(&mut rng, k, cfg.random_smoothing));
             }
             for o in 0..cfg.orientations {
                 let angle = std::f32::consts::PI * o as f32 / cfg.orientations as f32;
@@ -61,9 +61,15 @@ pub(crate) fn filter_banks(cfg: &FilterConfig, seed: u64, device: &Device) -> Ve
         .collect()
 }
 
-/// A random filter `[3, k, k]`: normal entries, each channel made zero-mean, unit norm.
-fn random_filter(rng: &mut Rng, k: usize) -> Vec<f32> {
+/// A random filter `[3, k, k]`: normal entries, each channel smoothed by a Gaussian of
+/// `smoothing` px (none at 0) and made zero-mean, unit norm.
+fn random_filter(rng: &mut Rng, k: usize, smoothing: f32) -> Vec<f32> {
     let mut w: Vec<f32> = (0..3 * k * k).map(|_| rng.normal()).collect();
+    if smoothing > 0.0 {
+        for channel in w.chunks_exact_mut(k * k) {
+            smooth_in_window(channel, k, smoothing);
+        }
+    }
     if k > 1 {
         for channel in w.chunks_exact_mut(k * k) {
             let mean = channel.iter().sum::<f32>() / (k * k) as f32;
@@ -127,7 +133,68 @@ fn on_colour_axis(base: &mut [f32], axis: &[f32; 3]) -> Vec<f32> {
     w
 }
 
+/// Separable Gaussian smoothing of a `[k, k]` kernel inside its own window (taps falling
+/// outside are dropped and the rest renormalised, so the edges keep their level).
+fn smooth_in_window(kernel: &mut [f32], k: usize, sigma: f32) {
+    let taps: Vec<f32> = (0..k)
+        .map(|d| (-((d * d) as f32) / (2.0 * sigma * sigma)).exp())
+        .collect();
+    let along = |src: &[f32], at: &dyn Fn(usize, usize) -> usize| -> Vec<f32> {
+        let mut out = vec![0.0f32; k * k];
+        for line in 0..k {
+            for i in 0..k {
+                let (mut sum, mut weight) = (0.0f32, 0.0f32);
+                for j in 0..k {
+                    let t = taps[i.abs_diff(j)];
+                    sum += t * src[at(line, j)];
+                    weight += t;
+                }
+                out[at(line, i)] = sum / weight;
+            }
+        }
+        out
+    };
+    let rows = along(kernel, &|line, i| line * k + i);
+    let both = along(&rows, &|line, i| i * k + line);
+    kernel.copy_from_slice(&both);
+}
+
 fn normalise(w: &mut [f32]) {
     let norm = w.iter().map(|v| v * v).sum::<f32>().sqrt().max(1e-12);
     w.iter_mut().for_each(|v| *v /= norm);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Mean squared difference of horizontally neighbouring taps over the mean square:
+    /// 2 for white noise, small for a smooth kernel.
+    fn roughness(w: &[f32], k: usize) -> f32 {
+        let (mut diff, mut power) = (0.0f32, 0.0f32);
+        for row in w.chunks_exact(k) {
+            for pair in row.windows(2) {
+                diff += (pair[1] - pair[0]).powi(2);
+            }
+            power += row.iter().map(|v| v * v).sum::<f32>();
+        }
+        diff / power * (k as f32 / (k - 1) as f32)
+    }
+
+    #[test]
+    fn smoothed_random_filters_are_smooth_zero_mean_and_of_unit_norm() {
+        let k = 9;
+        let draw = |smoothing| random_filter(&mut Rng::substream(7, 1), k, smoothing);
+        let (white, smooth) = (draw(0.0), draw(1.0));
+        let (rw, rs) = (roughness(&white, k), roughness(&smooth, k));
+        assert!(rw > 1.0, "white noise roughness {rw}");
+        assert!(rs < 0.5 * rw, "smoothed {rs} vs white {rw}");
+        for w in [&white, &smooth] {
+            let norm = w.iter().map(|v| v * v).sum::<f32>().sqrt();
+            assert!((norm - 1.0).abs() < 1e-4, "norm {norm}");
+            for channel in w.chunks_exact(k * k) {
+                assert!(channel.iter().sum::<f32>().abs() < 1e-4, "channel mean");
+            }
+        }
+    }
 }
