@@ -816,6 +816,24 @@ fn a_photographed_end_grain_factor_is_recovered_and_holds_inside_the_cube() {
     }
 }
 
+/// A sample of species preset `preset` written at `size` px into scratch folder `name`
+/// (removed when the returned guard drops), and its field fitted with the quick fit config.
+fn fitted_sample_of(
+    name: &str,
+    preset: &str,
+    size: usize,
+) -> (common::Scratch, Sample, FieldConfig) {
+    let dir = common::scratch(name);
+    let truth = xylem::presets::load_species_preset(preset).unwrap();
+    let out = xylem::io::OutputDir::prepare(&dir).unwrap();
+    xylem::procedural::synthetic::write_sample(&truth, "test", size, &out).unwrap();
+    let sample = load_all(&dir);
+    let field = fit_sample(&sample, &quick_config(), &mut |_, _, _| {})
+        .unwrap()
+        .field;
+    (dir, sample, field)
+}
+
 /// The inverse procedural fit of every face of `sample` on `field` with `cfg`.
 fn fit_procedural_of(
     sample: &Sample,
@@ -839,14 +857,7 @@ fn fit_procedural_of(
 #[test]
 fn the_inverse_procedural_fit_does_not_depend_on_the_threads() {
     use xylem::fit::ProceduralFitConfig;
-    let dir = common::scratch("fit-procedural-threads");
-    let truth = xylem::presets::load_species_preset("oak").unwrap();
-    let out = xylem::io::OutputDir::prepare(&dir).unwrap();
-    xylem::procedural::synthetic::write_sample(&truth, "test", 48, &out).unwrap();
-    let sample = load_all(&dir);
-    let field = fit_sample(&sample, &quick_config(), &mut |_, _, _| {})
-        .unwrap()
-        .field;
+    let (_scratch, sample, field) = fitted_sample_of("fit-procedural-threads", "oak", 48);
     let cfg = ProceduralFitConfig {
         presets: vec!["oak".into(), "maple".into(), "softwood".into()],
         rounds: 1,
@@ -881,14 +892,7 @@ fn the_inverse_procedural_fit_does_not_depend_on_the_threads() {
 #[test]
 fn inverse_procedural_recovers_the_preset_of_its_own_sample() {
     use xylem::fit::ProceduralFitConfig;
-    let dir = common::scratch("fit-inverse-procedural");
-    let truth = xylem::presets::load_species_preset("chestnut").unwrap();
-    let out = xylem::io::OutputDir::prepare(&dir).unwrap();
-    xylem::procedural::synthetic::write_sample(&truth, "test", 64, &out).unwrap();
-    let sample = load_all(&dir);
-    let field = fit_sample(&sample, &quick_config(), &mut |_, _, _| {})
-        .unwrap()
-        .field;
+    let (_scratch, sample, field) = fitted_sample_of("fit-inverse-procedural", "chestnut", 64);
     let cfg = ProceduralFitConfig {
         rounds: 2,
         ..ProceduralFitConfig::default()
@@ -912,7 +916,6 @@ fn inverse_procedural_recovers_the_preset_of_its_own_sample() {
     assert!(offset.abs() <= 0.2, "phase offset {offset}");
     let opacity = best.species.pores.as_ref().unwrap().opacity;
     assert!((opacity - 0.95).abs() <= 0.2, "pore opacity {opacity}");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// Issue 14: a sample whose knot was photographed in another colour than its preset's gets
