@@ -124,7 +124,8 @@ pub fn fit_procedural(
 /// independent, and the results come back in the presets' order, so the outcome does not
 /// depend on the threads): much of one preset's fit is single-threaded (the style loss),
 /// and the five presets of the default overlap on 2 cores. `progress` runs on the calling
-/// thread, told by the tasks as each preset finishes.
+/// thread, told by the tasks as each preset finishes; the tasks run on rayon's global pool
+/// (from a helper thread, so a caller inside `ThreadPool::install` does not choose theirs).
 fn fit_presets_in_parallel(
     cfg: &ProceduralFitConfig,
     fit: &FieldConfig,
