@@ -785,6 +785,38 @@ fn a_non_finite_loss_skips_its_update_and_a_diverged_rule_stops_the_run() {
     );
 }
 
+/// Slot 0 of a one-slot pool after one iteration that continued from a state 10^6 times
+/// the stored one, and that iteration's overflow term.
+fn after_a_runaway(sample: &Path, reseed_overflow: f32) -> (bool, f32) {
+    let mut cfg = tiny_config(4, 8, 1);
+    cfg.pool.reseed_overflow = reseed_overflow;
+    let data = data(sample, &cfg);
+    let kind = DeviceKind::Flex;
+    let loss = xylem::nca::MomentLoss::new(&data.targets, &kind.device());
+    let mut trainer = Trainer::new(&cfg, &data, kind).unwrap();
+    trainer.iterate(&loss).unwrap(); // iteration 0 starts fresh and fills the slot
+    let mut slots = trainer.pool.to_data().unwrap();
+    let (_, _, values) = slots[0].as_mut().expect("the fresh state was stored");
+    values.iter_mut().for_each(|v| *v = 1e6 * (*v + 0.5));
+    trainer.pool = xylem::nca::train::pool::Pool::from_data(slots, trainer.device()).unwrap();
+    let row = trainer.iterate(&loss).unwrap(); // iteration 1 continues from the slot
+    (trainer.pool.to_data().unwrap()[0].is_some(), row.overflow)
+}
+
+#[test]
+fn a_runaway_pool_state_is_not_stored_back() {
+    let (_dir, sample) = scratch_with_sample("runaway");
+    let (kept, overflow) = after_a_runaway(&sample, 1.0);
+    assert!(overflow > 1.0, "the blown-up state's overflow {overflow}");
+    assert!(
+        !kept,
+        "a state with overflow {overflow} went back into the pool"
+    );
+    // The control: with the threshold out of reach the same state is stored back.
+    let (kept, _) = after_a_runaway(&sample, 1e30);
+    assert!(kept, "the pool lost a state below its reseed threshold");
+}
+
 /// `target_colour = "shown"` scales every target to the base colour's mean with the fit's
 /// mean shift (what B plus dark pores must average to), `base` to the ground colour B's
 /// mean: with a flat bar at 0.5 and shifts -0.05, 0, +0.05 the shown targets' channel means

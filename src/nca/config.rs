@@ -126,6 +126,13 @@ pub struct PoolConfig {
     /// Every this many iterations the drawn state is replaced by a fresh seed.
     #[serde(default = "default_fresh_every")]
     pub fresh_every: usize,
+    /// A state whose overflow term (mean excess of |state| over 1) passes this after its
+    /// unroll has run away: it is not stored back, and its slot restarts from a fresh seed.
+    /// Healthy states stay under about 0.35; kept, a runaway state is drawn again and
+    /// again and grows (H11 without A, lrq: 0 -> 1.8e5 in one 16-step unroll, then up to
+    /// 1.4e9 over the next 380 iterations; BENCHMARKS "Runaway pool states").
+    #[serde(default = "default_reseed_overflow")]
+    pub reseed_overflow: f32,
 }
 
 /// The face loss and the weights of the loss terms (the face term has weight 1).
@@ -262,6 +269,9 @@ fn default_decay_factor() -> f64 {
 }
 fn default_fresh_every() -> usize {
     32
+}
+fn default_reseed_overflow() -> f32 {
+    1.0
 }
 
 impl Default for LossWeights {
@@ -439,6 +449,12 @@ impl ConfigFile for TrainConfig {
             1,
             1_000_000,
             "iterations between fresh seeds",
+        )?;
+        p.positive(
+            "reseed_overflow",
+            self.pool.reseed_overflow,
+            1e30,
+            "the overflow above which a pool state is reseeded",
         )?;
         let l = check.nested("loss");
         l.range(

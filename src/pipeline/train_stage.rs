@@ -145,6 +145,14 @@ pub fn train_into(
             outcome.iterations
         ));
     }
+    let runaways = outcome.runaways(config.pool.reseed_overflow);
+    if runaways > 0 {
+        reporter.note(&format!(
+            "{runaways} of {} unrolls ran away (overflow above pool.reseed_overflow = {}); \
+             they were not stored back in the pool, their slots restart from fresh seeds",
+            outcome.iterations, config.pool.reseed_overflow
+        ));
+    }
     if outcome.finished {
         reporter.say(&format!(
             "trained {} iterations; model in {} (model.bpk, loss.png)",

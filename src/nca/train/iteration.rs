@@ -250,6 +250,11 @@ impl Trainer {
     }
 
     /// Runs iteration `self.iteration` and returns its log row.
+    /// Whether a state with this overflow term ran away (`PoolConfig::reseed_overflow`).
+    pub fn is_runaway(&self, overflow: f32) -> bool {
+        overflow > self.config.pool.reseed_overflow
+    }
+
     pub fn iterate(&mut self, loss: &dyn FaceLoss) -> Result<LossRow> {
         let it = self.iteration;
         let Draw {
@@ -287,24 +292,27 @@ impl Trainer {
         // into NaN: its update is skipped and its pool slot emptied, so the slot starts from
         // a fresh seed when it is drawn again. The session decides when that is too often.
         let finite = out.loss.is_finite();
-        if finite {
-            let grads = normalise_gradients(&self.model, out.grads);
-            self.model = self.optimiser.step(lr, self.model.clone(), grads);
-        }
-        match slot {
-            Some(slot) if finite => self.pool.put(slot, region, out.final_state),
-            Some(slot) => self.pool.clear(slot),
-            None => {}
-        }
-        let kept: Vec<Region> = self.pool.regions().copied().collect();
-        self.inputs.retain(|r, _| kept.contains(r));
-        self.iteration += 1;
         let term = |name: &str| {
             out.terms
                 .iter()
                 .find(|(n, _)| *n == name)
                 .map_or(0.0, |t| t.1)
         };
+        // A finite state that ran away still teaches the rule (its overflow gradient), but
+        // continued it only grows: it is not stored back.
+        let keep = finite && !self.is_runaway(term("overflow"));
+        if finite {
+            let grads = normalise_gradients(&self.model, out.grads);
+            self.model = self.optimiser.step(lr, self.model.clone(), grads);
+        }
+        match slot {
+            Some(slot) if keep => self.pool.put(slot, region, out.final_state),
+            Some(slot) => self.pool.clear(slot),
+            None => {}
+        }
+        let kept: Vec<Region> = self.pool.regions().copied().collect();
+        self.inputs.retain(|r, _| kept.contains(r));
+        self.iteration += 1;
         Ok(LossRow {
             iteration: it,
             steps,

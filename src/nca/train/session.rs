@@ -55,6 +55,15 @@ impl TrainOutcome {
     pub fn skipped(&self) -> usize {
         self.rows.iter().filter(|r| !r.loss.is_finite()).count()
     }
+
+    /// Iterations whose state ran away (finite, overflow term above `reseed_overflow`):
+    /// updated, but their pool slot reseeded.
+    pub fn runaways(&self, reseed_overflow: f32) -> usize {
+        self.rows
+            .iter()
+            .filter(|r| r.loss.is_finite() && r.overflow > reseed_overflow)
+            .count()
+    }
 }
 
 /// Stops the run once the last [`MAX_NON_FINITE_IN_A_ROW`] rows all have a non-finite loss.
