@@ -249,12 +249,12 @@ impl Trainer {
         Ok(&self.inputs[&region])
     }
 
-    /// Runs iteration `self.iteration` and returns its log row.
     /// Whether a state with this overflow term ran away (`PoolConfig::reseed_overflow`).
     pub fn is_runaway(&self, overflow: f32) -> bool {
         overflow > self.config.pool.reseed_overflow
     }
 
+    /// Runs iteration `self.iteration` and returns its log row.
     pub fn iterate(&mut self, loss: &dyn FaceLoss) -> Result<LossRow> {
         let it = self.iteration;
         let Draw {
