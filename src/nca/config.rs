@@ -130,9 +130,18 @@ pub struct PoolConfig {
     /// unroll has run away: it is not stored back, and its slot restarts from a fresh seed.
     /// Healthy states stay under about 0.35; kept, a runaway state is drawn again and
     /// again and grows (H11 without A, lrq: 0 -> 1.8e5 in one 16-step unroll, then up to
-    /// 1.4e9 over the next 380 iterations; BENCHMARKS "H11 A held out with lrq, and runaway pool states").
+    /// 1.4e9 over the next 380 iterations; BENCHMARKS "H11 A held out with lrq, and
+    /// runaway pool states").
     #[serde(default = "default_reseed_overflow")]
     pub reseed_overflow: f32,
+}
+
+impl PoolConfig {
+    /// Whether a finite unroll whose final state has this overflow term ran away
+    /// (`reseed_overflow`).
+    pub fn ran_away(&self, overflow: f32) -> bool {
+        overflow > self.reseed_overflow
+    }
 }
 
 /// The face loss and the weights of the loss terms (the face term has weight 1).

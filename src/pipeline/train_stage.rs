@@ -145,7 +145,7 @@ pub fn train_into(
             outcome.iterations
         ));
     }
-    let runaways = outcome.runaways(config.pool.reseed_overflow);
+    let runaways = outcome.runaways(&config.pool);
     if runaways > 0 {
         reporter.note(&format!(
             "{runaways} of {} unrolls ran away (overflow above pool.reseed_overflow = {}); \

@@ -249,11 +249,6 @@ impl Trainer {
         Ok(&self.inputs[&region])
     }
 
-    /// Whether a state with this overflow term ran away (`PoolConfig::reseed_overflow`).
-    pub fn is_runaway(&self, overflow: f32) -> bool {
-        overflow > self.config.pool.reseed_overflow
-    }
-
     /// Runs iteration `self.iteration` and returns its log row.
     pub fn iterate(&mut self, loss: &dyn FaceLoss) -> Result<LossRow> {
         let it = self.iteration;
@@ -300,7 +295,7 @@ impl Trainer {
         };
         // A finite state that ran away still teaches the rule (its overflow gradient), but
         // continued it only grows: it is not stored back.
-        let keep = finite && !self.is_runaway(term("overflow"));
+        let keep = finite && !self.config.pool.ran_away(term("overflow"));
         if finite {
             let grads = normalise_gradients(&self.model, out.grads);
             self.model = self.optimiser.step(lr, self.model.clone(), grads);

@@ -19,6 +19,7 @@ use crate::config::write_config_copy;
 use crate::device::DeviceKind;
 use crate::error::{Result, XylemError};
 use crate::io::{OutputDir, save_png};
+use crate::nca::config::PoolConfig;
 use crate::nca::config::TrainConfig;
 use crate::nca::fit_source::FIT_FILE;
 use crate::nca::model_dir::{ModelMeta, WEIGHTS_FILE, save_weights, weights_hash};
@@ -56,12 +57,12 @@ impl TrainOutcome {
         self.rows.iter().filter(|r| !r.loss.is_finite()).count()
     }
 
-    /// Iterations whose state ran away (finite, overflow term above `reseed_overflow`):
-    /// updated, but their pool slot reseeded.
-    pub fn runaways(&self, reseed_overflow: f32) -> usize {
+    /// Iterations whose state ran away (finite, [`PoolConfig::ran_away`]): updated, but
+    /// their pool slot reseeded.
+    pub fn runaways(&self, pool: &PoolConfig) -> usize {
         self.rows
             .iter()
-            .filter(|r| r.loss.is_finite() && r.overflow > reseed_overflow)
+            .filter(|r| r.loss.is_finite() && pool.ran_away(r.overflow))
             .count()
     }
 }
