@@ -114,7 +114,7 @@ fn identity_reproduces_b(fit: FitRecord) {
 #[test]
 fn fused_and_burn_synthesis_agree() {
     let device = Device::flex();
-    // Every conditioning channel, so both engines must also see the same grain noise.
+    // Every conditioning channel, so both engines must also see the same grain and ray noise.
     let spec = ModelSpec {
         hidden: 16,
         conditioning: vec![
@@ -122,6 +122,7 @@ fn fused_and_burn_synthesis_agree() {
             CondChannel::G,
             CondChannel::RingPhase,
             CondChannel::GrainNoise,
+            CondChannel::RayNoise,
         ],
         ..ModelSpec::default()
     };

@@ -17,13 +17,18 @@ pub enum CondChannel {
     RingPhase,
     /// Half of the grain-aligned noise (`grain_noise.rs`, 1 channel): tubes along the fibres.
     GrainNoise,
+    /// Half of the ray noise (`ray_noise.rs`, 1 channel): plates across the rings.
+    RayNoise,
 }
 
 impl CondChannel {
     /// Number of tensor channels.
     pub fn width(self) -> usize {
         match self {
-            CondChannel::GreyB | CondChannel::G | CondChannel::GrainNoise => 1,
+            CondChannel::GreyB
+            | CondChannel::G
+            | CondChannel::GrainNoise
+            | CondChannel::RayNoise => 1,
             CondChannel::RgbB => 3,
             CondChannel::RingPhase => 2,
         }

@@ -48,6 +48,8 @@ pub struct Conditioning {
     pub fibre_axis: Vec3,
     /// The grain noise, set by [`Conditioning::for_model`] for models that perceive it.
     pub grain: Option<Arc<GrainNoise>>,
+    /// The ray noise (`ray_noise.rs`), set by [`Conditioning::for_model`] likewise.
+    pub rays: Option<Arc<GrainNoise>>,
 }
 
 /// How raw B and G are scaled into conditioning channels; fixed at training time and stored
@@ -71,6 +73,8 @@ pub struct CondVolumes {
     pub b: Volume,
     /// The grain noise (1 channel) where the conditioning has one.
     pub grain: Option<Volume>,
+    /// The ray noise (1 channel) where the conditioning has one.
+    pub rays: Option<Volume>,
 }
 
 /// Grid side on which the range of G over the cube is measured.
@@ -86,11 +90,15 @@ impl Conditioning {
                 .grain
                 .as_ref()
                 .map(|n| sample_region(n.as_ref(), region)),
+            rays: self
+                .rays
+                .as_ref()
+                .map(|n| sample_region(n.as_ref(), region)),
         }
     }
 
-    /// Adds the grain noise of realisation `seed` when `spec` perceives it, with its cells
-    /// scaled by `cell_scale` (`grain_noise::cell_scale`: 1 in training).
+    /// Adds the grain and ray noises of realisation `seed` that `spec` perceives, with their
+    /// cells scaled by `cell_scale` (`grain_noise::cell_scale`: 1 in training).
     pub fn for_model(mut self, spec: &ModelSpec, seed: u64, cell_scale: f32) -> Self {
         if spec.conditioning.contains(&CondChannel::GrainNoise) {
             let noise = if spec.grain_noise.follow_rings {
@@ -105,6 +113,12 @@ impl Conditioning {
                 GrainNoise::new(&spec.grain_noise, self.fibre_axis, seed, cell_scale)
             };
             self.grain = Some(Arc::new(noise));
+        }
+        if spec.conditioning.contains(&CondChannel::RayNoise) {
+            let noise =
+                spec.ray_noise
+                    .noise(self.fibre_axis, self.growth.clone(), seed, cell_scale);
+            self.rays = Some(Arc::new(noise));
         }
         self
     }
@@ -223,11 +237,10 @@ impl Normalisation {
                         data[(base + 1) * n + v] = 0.5 * phase.sin();
                     }
                     CondChannel::GrainNoise => {
-                        let grain = vols
-                            .grain
-                            .as_ref()
-                            .expect("grain noise sampled: the conditioning went through for_model");
-                        data[base * n + v] = 0.5 * grain.data[v];
+                        data[base * n + v] = 0.5 * sampled(&vols.grain).data[v];
+                    }
+                    CondChannel::RayNoise => {
+                        data[base * n + v] = 0.5 * sampled(&vols.rays).data[v];
                     }
                 }
             }
@@ -235,6 +248,14 @@ impl Normalisation {
         }
         data
     }
+}
+
+/// A noise channel's volume, which `Conditioning::for_model` set up for every noise the
+/// model's conditioning lists.
+fn sampled(noise: &Option<Volume>) -> &Volume {
+    noise
+        .as_ref()
+        .expect("noise sampled: the conditioning went through for_model")
 }
 
 /// Undoes the white balance of `norm` on a white-balanced RGB value.

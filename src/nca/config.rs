@@ -10,6 +10,7 @@ use serde::{Deserialize, Serialize};
 use super::cond_channel::CondChannel;
 use super::grain_noise::GrainNoiseSpec;
 use super::perception::{FILTERS, POSITION_CHANNELS, PerceptionImpl};
+use super::ray_noise::RayNoiseSpec;
 use super::readout::Readout;
 use crate::config::{Checker, ConfigFile};
 use crate::error::Result;
@@ -54,6 +55,10 @@ pub struct ModelSpec {
     pub seed_amplitude: f32,
     /// Cell sizes of the `grain_noise` conditioning channel.
     pub grain_noise: GrainNoiseSpec,
+    /// Cell sizes of the `ray_noise` conditioning channel; left out of the stored spec when
+    /// at their defaults, so models written before it existed are written alike.
+    #[serde(skip_serializing_if = "is_default_rays")]
+    pub ray_noise: RayNoiseSpec,
     /// How the colour is read from the state: `residual` (B + state RGB), or `bounded` /
     /// `saturating` (the same, softly bounded to [0, 1] in photo colour; `readout.rs`).
     pub readout: Readout,
@@ -62,6 +67,10 @@ pub struct ModelSpec {
     /// magenta-green axis the photos' texture barely has, 1 = light-dark wood colour only.
     #[serde(skip_serializing_if = "is_every_colour")]
     pub colour_axes: usize,
+}
+
+fn is_default_rays(spec: &RayNoiseSpec) -> bool {
+    *spec == RayNoiseSpec::default()
 }
 
 /// Every colour axis (the default): left out of the model's stored spec so models trained
@@ -326,6 +335,7 @@ impl Default for ModelSpec {
             perception: PerceptionImpl::default(),
             seed_amplitude: 0.05,
             grain_noise: GrainNoiseSpec::default(),
+            ray_noise: RayNoiseSpec::default(),
             readout: Readout::default(),
             colour_axes: 3,
         }
@@ -379,7 +389,8 @@ impl ModelSpec {
             1.0,
             "seed amplitude",
         )?;
-        self.grain_noise.validate(&check.nested("grain_noise"))
+        self.grain_noise.validate(&check.nested("grain_noise"))?;
+        self.ray_noise.validate(&check.nested("ray_noise"))
     }
 }
 

@@ -149,6 +149,7 @@ impl FitRecord {
             growth: field,
             colour,
             grain: None,
+            rays: None,
         }
     }
 }

@@ -105,19 +105,39 @@ const GRADIENT_GRID: usize = 8;
 /// else the rings have no mean direction in the cube and the tubes stay straight.
 const MIN_GRADIENT_COHERENCE: f32 = 0.5;
 
+/// Lattice spacings of a fibre-aligned noise in cube units: around the stem within the ring
+/// surface, across the rings (radial) and along the fibres.
+#[derive(Clone, Copy, Debug)]
+pub struct NoiseCells {
+    pub tangential: f32,
+    pub radial: f32,
+    pub along: f32,
+}
+
+impl NoiseCells {
+    /// Spacings given in millimetres, multiplied by `cell_scale` (see [`cell_scale`]).
+    pub fn from_mm(tangential: f32, radial: f32, along: f32, cell_scale: f32) -> Self {
+        let unit = |mm: f32| cell_scale * mm / (CM_PER_UNIT * 10.0);
+        Self {
+            tangential: unit(tangential),
+            radial: unit(radial),
+            along: unit(along),
+        }
+    }
+}
+
+impl GrainNoiseSpec {
+    /// The vessel tubes' cells: round across the fibres.
+    fn cells(&self, cell_scale: f32) -> NoiseCells {
+        NoiseCells::from_mm(self.across_mm, self.across_mm, self.along_mm, cell_scale)
+    }
+}
+
 impl GrainNoise {
     /// Noise with cells of `spec` along the unit `axis` (cube frame), realisation `seed`,
     /// the cells multiplied by `cell_scale` (see [`cell_scale`]).
     pub fn new(spec: &GrainNoiseSpec, axis: Vec3, seed: u64, cell_scale: f32) -> Self {
-        let t = axis.normalize_or(Vec3::Y);
-        let e1 = t.any_orthonormal_vector();
-        let e2 = t.cross(e1);
-        let (across, along) = cell_sizes(spec, cell_scale);
-        Self {
-            frame: [e1 / across, e2 / across, t / along],
-            key: mix64(seed ^ GRAIN_STREAM),
-            rings: None,
-        }
+        Self::straight(spec.cells(cell_scale), axis, mix64(seed ^ GRAIN_STREAM))
     }
 
     /// As [`GrainNoise::new`], with the tubes laid in the iso-surfaces of `growth` (see
@@ -129,7 +149,33 @@ impl GrainNoise {
         seed: u64,
         cell_scale: f32,
     ) -> Self {
-        let mut noise = Self::new(spec, axis, seed, cell_scale);
+        let key = mix64(seed ^ GRAIN_STREAM);
+        Self::in_rings(spec.cells(cell_scale), axis, growth, key)
+    }
+
+    /// Noise of lattice `cells` around the unit `axis`, keyed by `key`; the two directions
+    /// across the axis are arbitrary (radial is whichever the axis leaves second).
+    pub(crate) fn straight(cells: NoiseCells, axis: Vec3, key: u64) -> Self {
+        let t = axis.normalize_or(Vec3::Y);
+        let e1 = t.any_orthonormal_vector();
+        let e2 = t.cross(e1);
+        Self {
+            frame: [e1 / cells.tangential, e2 / cells.radial, t / cells.along],
+            key,
+            rings: None,
+        }
+    }
+
+    /// Noise of lattice `cells` whose radial coordinate is G itself and whose other two lie
+    /// in the cube's mean ring surface (see [`GrainNoiseSpec::follow_rings`]); as
+    /// [`Self::straight`] when G has no mean direction or the fibres cross the rings.
+    pub(crate) fn in_rings(
+        cells: NoiseCells,
+        axis: Vec3,
+        growth: Arc<dyn SolidTexture>,
+        key: u64,
+    ) -> Self {
+        let mut noise = Self::straight(cells, axis, key);
         let Some((normal, g_per_unit)) = mean_gradient(growth.as_ref()) else {
             return noise;
         };
@@ -139,9 +185,12 @@ impl GrainNoise {
             return noise; // fibres along the ring normal: no surface direction to follow
         }
         let across_in_surface = in_surface.cross(normal);
-        let (across, along) = cell_sizes(spec, cell_scale);
-        noise.frame = [across_in_surface / across, Vec3::ZERO, in_surface / along];
-        noise.rings = Some((growth, 1.0 / (g_per_unit * across)));
+        noise.frame = [
+            across_in_surface / cells.tangential,
+            Vec3::ZERO,
+            in_surface / cells.along,
+        ];
+        noise.rings = Some((growth, 1.0 / (g_per_unit * cells.radial)));
         noise
     }
 
@@ -154,15 +203,6 @@ impl GrainNoise {
         let q = Vec3::new(self.frame[0].dot(p), across_rings, self.frame[2].dot(p));
         value3(self.key, q)
     }
-}
-
-/// The lattice spacings across and along the fibres in cube units.
-fn cell_sizes(spec: &GrainNoiseSpec, cell_scale: f32) -> (f32, f32) {
-    let mm_per_unit = CM_PER_UNIT * 10.0;
-    (
-        cell_scale * spec.across_mm / mm_per_unit,
-        cell_scale * spec.along_mm / mm_per_unit,
-    )
 }
 
 /// The unit mean gradient of `growth` over the cube and the mean gradient length (G per cube
@@ -204,11 +244,11 @@ impl SolidTexture for GrainNoise {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    /// Mean absolute change of the noise over `n` steps of `step` from random points.
-    fn mean_change(noise: &GrainNoise, step: Vec3) -> f32 {
+    /// Mean absolute change of the noise over a `step` from 2000 random points.
+    pub(crate) fn mean_change(noise: &GrainNoise, step: Vec3) -> f32 {
         let mut rng = crate::rng::Rng::new(3);
         let n = 2000;
         let mut sum = 0.0;

@@ -19,8 +19,9 @@
 //! - [`tensors`]: moving data between `Vec`/`Volume` and tensors.
 //! - [`region`]: a box of voxels of the training grid (whole volume or a crop) and its
 //!   position channels.
-//! - [`cond_channel`], [`conditioning`], [`grain_noise`]: the conditioning inputs (B, G, ring
-//!   phase, grain noise) as solid textures sampled into channels, and the white balance.
+//! - [`cond_channel`], [`conditioning`], [`grain_noise`], [`ray_noise`]: the conditioning
+//!   inputs (B, G, ring phase, grain and ray noise) as solid textures sampled into channels,
+//!   and the white balance.
 //! - [`fit_source`]: where B and G come from (the fit of `xylem fit`, or a stand-in).
 //! - [`denormals`]: flush-to-zero on the compute threads (denormals made long backward
 //!   passes 2x slower).
@@ -49,6 +50,7 @@ pub mod grain_noise;
 pub mod model;
 pub mod model_dir;
 pub mod perception;
+pub mod ray_noise;
 pub mod readout;
 pub mod region;
 pub mod synth;
