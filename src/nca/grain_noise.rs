@@ -153,8 +153,8 @@ impl GrainNoise {
         Self::in_rings(spec.cells(cell_scale), axis, growth, key)
     }
 
-    /// Noise of lattice `cells` around the unit `axis`, keyed by `key`; the two directions
-    /// across the axis are arbitrary (radial is whichever the axis leaves second).
+    /// Noise of lattice `cells` around the unit `axis`, keyed by `key`; across the axis an
+    /// arbitrary orthonormal pair takes the tangential and the radial spacing.
     pub(crate) fn straight(cells: NoiseCells, axis: Vec3, key: u64) -> Self {
         let t = axis.normalize_or(Vec3::Y);
         let e1 = t.any_orthonormal_vector();

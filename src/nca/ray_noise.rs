@@ -10,8 +10,9 @@
 //! no rays on any face or cut). This channel is value noise whose cells are thin
 //! tangentially, long radially and tall along the fibres, its radial coordinate the growth
 //! field itself (as the grain noise's `follow_rings`), so a high threshold of it is a plate
-//! that crosses the rings where they lie. Being an input, it cannot drift during unrolls; a
-//! rule trained on wood without visible rays can ignore it.
+//! that crosses the rings where they lie. Being an input, it cannot drift during unrolls.
+//! Off in every shipped config: on the synthetic oak the rule drew only faint short streaks
+//! from it (BENCHMARKS "Ray noise on the synthetic oak").
 //!
 //! The plates are laid in one frame for the cube (the mean ring surface, as the grain noise's):
 //! right where the pith is far from the cube, as on most cut blocks; with the pith inside the
