@@ -19,8 +19,7 @@ use crate::config::write_config_copy;
 use crate::device::DeviceKind;
 use crate::error::{Result, XylemError};
 use crate::io::{OutputDir, save_png};
-use crate::nca::config::PoolConfig;
-use crate::nca::config::TrainConfig;
+use crate::nca::config::{PoolConfig, TrainConfig};
 use crate::nca::fit_source::FIT_FILE;
 use crate::nca::model_dir::{ModelMeta, WEIGHTS_FILE, save_weights, weights_hash};
 
