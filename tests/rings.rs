@@ -50,6 +50,66 @@ fn localiser_finds_the_rings_of_synthetic_faces() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A 256 px face of a ring-porous wood seen flat-sawn: the rings are oblique bands made of
+/// many short dark dashes along the fibres (vertical), with a few dashes between the bands
+/// (as CN03 F). Returns the photo and the band centres as a ring image.
+fn dashed_bands() -> (xylem::Image2, xylem::Image2) {
+    const N: usize = 256;
+    const PERIOD: f32 = 40.0;
+    const BAND: f32 = 10.0;
+    const SLOPE: f32 = 0.6;
+    let phase = |row: usize, col: usize| (col as f32 + SLOPE * row as f32).rem_euclid(PERIOD);
+    let mut light = vec![0.72f32; N * N];
+    let mut rng = xylem::rng::Rng::new(3);
+    for _ in 0..6000 {
+        let (row, col) = (rng.below(N), rng.below(N));
+        let chance = if phase(row, col) < BAND { 0.9 } else { 0.08 };
+        if rng.uniform() < chance {
+            for r in row.saturating_sub(3)..(row + 3).min(N) {
+                for c in col..(col + 2).min(N) {
+                    light[r * N + c] = 0.45;
+                }
+            }
+        }
+    }
+    let tint = [1.0, 0.82, 0.62];
+    let photo: Vec<f32> = light
+        .iter()
+        .flat_map(|&v| tint.map(|t| (v * t).min(1.0)))
+        .collect();
+    let mut rings = xylem::Image2::filled(N, N, 1, 0.0);
+    for row in 0..N {
+        for col in 0..N {
+            let off =
+                (phase(row, col) - BAND / 2.0 + PERIOD / 2.0).rem_euclid(PERIOD) - PERIOD / 2.0;
+            let across = off / (1.0 + SLOPE * SLOPE).sqrt();
+            rings.pixel_mut(row, col)[0] = (-0.5 * (across / 2.5).powi(2)).exp();
+        }
+    }
+    (xylem::Image2::from_data(N, N, 3, photo).unwrap(), rings)
+}
+
+/// The pore density term (`pore_weight`) is what lets the localiser see a band of pores as
+/// one ring instead of many dashes along the fibres: correlation with the band centres 0.65
+/// without it, 0.86 with the defaults (weight 2, 5 px high-pass and density).
+#[test]
+fn pore_density_turns_a_band_of_dashes_into_one_ring() {
+    let (photo, bands) = dashed_bands();
+    let with = LocaliserConfig::default();
+    assert!(with.pore_weight > 0.0);
+    let without = LocaliserConfig {
+        pore_weight: 0.0,
+        ..with.clone()
+    };
+    let a_with = agreement(&localise(&photo, &with), &bands).correlation;
+    let a_without = agreement(&localise(&photo, &without), &bands).correlation;
+    assert!(a_with > 0.75, "with the pore density: correlation {a_with}");
+    assert!(
+        a_with > a_without + 0.1,
+        "with {a_with} against without {a_without}"
+    );
+}
+
 #[test]
 fn localiser_is_deterministic_and_blank_on_a_flat_photo() {
     let dir = synthetic_sample("rings-chestnut", "chestnut", 64);

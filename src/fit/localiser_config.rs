@@ -14,6 +14,15 @@ pub struct LocaliserConfig {
     /// Width of the local mean and contrast the lightness is normalised by (lighting
     /// gradients, stains and colour differences between faces vanish below this scale).
     pub normalise_sigma: f32,
+    /// Weight of the pore density subtracted from the normalised lightness before anything
+    /// else (0: none). In ring-porous wood a ring is a band of *many* small dark pores, which
+    /// the lightness alone reads as single dashes along the fibres; their local density is
+    /// dark exactly on the band.
+    pub pore_weight: f32,
+    /// Width of the local mean a pixel must be darker than to count as pore.
+    pub pore_highpass_sigma: f32,
+    /// Width over which the pore pixels' darkness is averaged into a density.
+    pub pore_density_sigma: f32,
     /// Smoothing before the gradient of the structure tensor.
     pub gradient_sigma: f32,
     /// Window of the structure tensor that gives the ring direction (several pores wide, so
@@ -43,6 +52,9 @@ impl Default for LocaliserConfig {
     fn default() -> Self {
         Self {
             normalise_sigma: 16.0,
+            pore_weight: 2.0,
+            pore_highpass_sigma: 5.0,
+            pore_density_sigma: 5.0,
             gradient_sigma: 1.5,
             window_sigma: 8.0,
             along_half: 12.0,
@@ -60,6 +72,15 @@ impl LocaliserConfig {
     pub fn validate(&self, check: &Checker) -> Result<()> {
         let px = "pixels at 256 px";
         check.range("normalise_sigma", self.normalise_sigma, 1.0, 256.0, px)?;
+        check.range("pore_weight", self.pore_weight, 0.0, 16.0, "a weight")?;
+        check.range(
+            "pore_highpass_sigma",
+            self.pore_highpass_sigma,
+            0.5,
+            64.0,
+            px,
+        )?;
+        check.range("pore_density_sigma", self.pore_density_sigma, 0.5, 64.0, px)?;
         check.range("gradient_sigma", self.gradient_sigma, 0.0, 16.0, px)?;
         check.range("window_sigma", self.window_sigma, 0.5, 64.0, px)?;
         check.range("along_half", self.along_half, 0.0, 64.0, px)?;
