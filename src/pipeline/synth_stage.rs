@@ -54,6 +54,14 @@ pub fn synth_into(
     bar.finish();
     let range = ValueRange::of(&volume.data);
     reporter.note(&format!("colour values in {range} (not clamped)"));
+    if range.ran_away() {
+        reporter.note(&format!(
+            "warning: {} values sit at the colour bounds: the NCA state has probably run away \
+             somewhere (a blown-out blob, often on a knot no training face showed); look at the \
+             faces and cuts, or unroll fewer steps (--steps 24)",
+            range.pinned_count
+        ));
+    }
     write_volume(&dir.path("volume.npy"), &volume)?;
     let white_balance = trained
         .fit
