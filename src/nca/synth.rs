@@ -242,12 +242,17 @@ impl ValueRange {
     /// Whether so many values sit at the bounds that the state has probably run away
     /// somewhere (a bounded readout keeps such a volume inside [0, 1]).
     pub fn ran_away(&self) -> bool {
-        self.pinned_count as f64 / self.values.max(1) as f64 > RUNAWAY_FRACTION
+        self.share(self.pinned_count) > RUNAWAY_FRACTION
     }
 
     /// Fraction of values below 0 or above 1.
     pub(crate) fn outside_fraction(&self) -> f64 {
-        self.outside_count as f64 / self.values.max(1) as f64
+        self.share(self.outside_count)
+    }
+
+    /// `count` as a fraction of the values looked at (0 for an empty volume).
+    fn share(&self, count: usize) -> f64 {
+        count as f64 / self.values.max(1) as f64
     }
 }
 
