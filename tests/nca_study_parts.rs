@@ -12,7 +12,7 @@ use xylem::loss::{GuidedConfig, GuidedLoss, GuidedPatch, LossConfig, image_to_te
 use xylem::metrics::anisotropy::pore_anisotropy;
 use xylem::metrics::phase_density::{PhaseDensity, curve_correlation};
 use xylem::nca::faces::layout;
-use xylem::nca::train::placement::{Placement, draw_region};
+use xylem::nca::train::placement::{Placement, draw_fresh, draw_region};
 use xylem::rng::{Rng, hash3, unit};
 
 /// Rings every `period` columns (G = column / period); pores (dark pixels) only in the first
@@ -151,6 +151,66 @@ fn face_placement_touches_a_trained_face_and_reaches_everywhere() {
         corners
             .iter()
             .all(|o| o.iter().all(|&v| v == 0 || v == grid - crop))
+    );
+}
+
+#[test]
+fn interior_fraction_draws_crops_inside_the_cube_and_zero_keeps_the_stream() {
+    use xylem::config::ConfigFile;
+    let faces = [Face::A, Face::C];
+    let text = |fraction: f32| {
+        format!(
+            "seed = 1\n[volume]\nsize = 20\ncrop = 6\ninterior_fraction = {fraction}\n\
+             [schedule]\niterations = 3\nsteps = [2, 3]\n[pool]\nsize = 0\n"
+        )
+    };
+    let volume = |fraction: f32| {
+        xylem::nca::TrainConfig::parse(&text(fraction), std::path::Path::new("<test>"))
+            .unwrap()
+            .volume
+    };
+    // 0: the same regions as `draw_region`, draw for draw (old configs keep their crops).
+    let (mut a, mut b) = (Rng::new(7), Rng::new(7));
+    for _ in 0..50 {
+        let fresh = draw_fresh(&volume(0.0), &faces, &mut a);
+        assert_eq!(fresh, draw_region(20, 6, Placement::Faces, &faces, &mut b));
+    }
+    // 1: every crop anywhere in the grid; most touch no face at all.
+    let mut rng = Rng::new(7);
+    let all = Face::ALL;
+    let regions: Vec<_> = (0..400)
+        .map(|_| draw_fresh(&volume(1.0), &faces, &mut rng))
+        .collect();
+    assert!(
+        regions
+            .iter()
+            .all(|r| (0..3).all(|a| r.offset[a] + 6 <= 20))
+    );
+    let inside = regions
+        .iter()
+        .filter(|r| !all.iter().any(|&f| layout(f).touches(r)))
+        .count();
+    // (13/15)^3 = 0.65 of uniform offsets touch no face.
+    assert!(inside > 200 && inside < 320, "{inside} of 400 inside");
+    let bad = text(1.5);
+    let err = xylem::nca::TrainConfig::parse(&bad, std::path::Path::new("frac.toml"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("frac.toml") && err.contains("volume.interior_fraction"),
+        "{err}"
+    );
+    // Planes inside the cube compared with the photos need the guided loss.
+    let moments = format!(
+        "{}[loss]\nface = \"moments\"\ninterior_style = true\n",
+        text(0.5)
+    );
+    let err = xylem::nca::TrainConfig::parse(&moments, std::path::Path::new("style.toml"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("style.toml") && err.contains("loss.interior_style"),
+        "{err}"
     );
 }
 

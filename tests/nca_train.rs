@@ -458,6 +458,38 @@ fn pool_trained_model_stays_bounded_past_its_horizon() {
     assert!(drift < 0.1, "mean |V(24) - V(6)| = {drift}");
 }
 
+/// Crops drawn inside the cube (`interior_fraction`) touch no face: their iterations have
+/// no face term (style 0), still a finite loss from the overflow term, and train.
+#[test]
+fn interior_crops_train_on_the_overflow_term_alone() {
+    let (dir, sample) = scratch_with_sample("interior");
+    let text = "seed = 4\n[model]\nhidden = 16\n[volume]\nsize = 12\ncrop = 6\n\
+                interior_fraction = 1.0\n[schedule]\niterations = 12\nsteps = [3, 5]\n\
+                [pool]\nsize = 0\n[memory]\nsegment_steps = 2\n[loss]\nface = \"moments\"\n";
+    let cfg = TrainConfig::parse(text, Path::new("<test>")).unwrap();
+    let outcome = train(
+        &dir.join("out"),
+        &cfg,
+        &data(&sample, &cfg),
+        &TrainOptions::default(),
+    );
+    assert!(outcome.finished);
+    let rows = &outcome.rows;
+    assert!(rows.iter().all(|r| r.loss.is_finite()), "{rows:?}");
+    let faceless = rows.iter().filter(|r| r.style == 0.0).count();
+    // 12 iterations, each touching no face with probability (5/7)^3 = 0.36.
+    assert!(
+        faceless > 0 && faceless < rows.len(),
+        "{faceless} of {}",
+        rows.len()
+    );
+    assert!(
+        rows.iter()
+            .filter(|r| r.style == 0.0)
+            .all(|r| r.loss == r.overflow)
+    );
+}
+
 /// Issue 12, stable by construction: with `readout = "bounded"` or `"saturating"` every
 /// colour lies in [0, 1] however the state drifts. A rule trained with a 10x learning rate (which the residual
 /// readout shows as values in [-0.84, 1.79], see above) is unrolled for 8x its horizon by

@@ -19,7 +19,10 @@ Writes DIR/volume.npy (float32 [N, N, N, 3], RGB; nothing is clamped: models tra
 the shipped configs ([model] readout = \"saturating\") or with \"bounded\" stay inside
 [0, 1] by construction, models with readout = \"residual\" near it (BENCHMARKS.md: a few
 hundred to a few thousand of 50 M values outside, by up to 0.25); the command prints the
-range and how many values fall outside; axes x, y, z as every xylem volume), DIR/faces/A.png..F.png,
+range, how many values fall outside and how many lie within 0.005 of 0 or 1, and warns when
+more than 1e-4 of them do: the state ran away and the saturating readout hides it as flat
+white or black blotches (README, known limits); axes x, y, z as every xylem volume),
+DIR/faces/A.png..F.png,
 DIR/cuts/cut1.png, DIR/cuts/cut2.png, DIR/unfolded.png (PNGs clamp colour to [0, 1]; seen
 with the fit's grain shading when it has one: end grain darker than side grain, DESIGN
 \"Grain shading\"; volume.npy holds the plain colour) and DIR/model.toml (the model's

@@ -93,6 +93,12 @@ pub struct VolumeConfig {
     /// `corners` (the 8 corner crops of the first trial).
     #[serde(default)]
     pub placement: Placement,
+    /// Share of the fresh crops drawn anywhere in the grid instead of by `placement`. Such
+    /// a crop usually touches no trained face: only the overflow and low-band terms judge
+    /// it, which teaches the rule to stay bounded where no photo is (the inside of the cube,
+    /// a knot under a held-out face). 0 (the default) draws every crop by `placement`.
+    #[serde(default)]
+    pub interior_fraction: f32,
 }
 
 impl VolumeConfig {
@@ -184,6 +190,12 @@ pub struct LossWeights {
     /// the inside of the cube is never seen by the loss. Their depths are drawn per
     /// iteration.
     pub inner_planes: usize,
+    /// Whether a crop that touches no trained face (`[volume] interior_fraction`) compares
+    /// planes parallel to the nearest trained face on each axis with that face's photo
+    /// (guided loss, each plane with its own ring phase; depths as `inner_planes`, one at
+    /// least). Without it such a crop is judged by the overflow and low-band terms only,
+    /// and the rule may learn to paint nothing inside the cube.
+    pub interior_style: bool,
     /// What colour the targets have: `base` (each face photo scaled so its mean is the base
     /// colour's mean on that face: the NCA adds texture, not a colour shift), `shown` (the
     /// same with the base colour's mean shift: the mean the photos have where the ground
@@ -303,6 +315,7 @@ impl Default for LossWeights {
             style: LossConfig::default_config(),
             guided: GuidedConfig::default(),
             inner_planes: 0,
+            interior_style: false,
             target_colour: TargetColour::default(),
         }
     }
@@ -426,6 +439,13 @@ impl ConfigFile for TrainConfig {
             self.volume.size,
             "crop side (at most volume.size)",
         )?;
+        v.range(
+            "interior_fraction",
+            self.volume.interior_fraction,
+            0.0,
+            1.0,
+            "share of the crops drawn anywhere in the grid",
+        )?;
         let s = check.nested("schedule");
         s.count(
             "iterations",
@@ -527,6 +547,12 @@ impl ConfigFile for TrainConfig {
                     "= {}: planes inside the crop need the guided loss (face = \"guided\")",
                     self.loss.inner_planes
                 ),
+            ));
+        }
+        if self.loss.interior_style && self.loss.face != FaceLossKind::Guided {
+            return Err(l.error(
+                "interior_style",
+                "= true: planes inside the cube need the guided loss (face = \"guided\")",
             ));
         }
         let m = check.nested("memory");

@@ -124,6 +124,48 @@ pub(crate) fn inner_patches(
     patches_at(state, Some(guide), region, faces, depth)
 }
 
+/// For a crop inside the cube: per axis, the plane `depth` voxels in from the crop's side
+/// that faces the nearest of `faces` normal to that axis (the farther one when only it is
+/// in `faces`), with its guide plane. Its origin is the crop's place on that face, so the
+/// guided loss compares it with the photo's window over the same place.
+pub(crate) fn nearest_face_planes(
+    state: &Tensor<4>,
+    guide: &Tensor<4>,
+    region: &Region,
+    faces: &[Face],
+    depth: usize,
+) -> Vec<FacePatch> {
+    nearest_faces(region, faces)
+        .into_iter()
+        .map(|face| {
+            let l = layout(face);
+            FacePatch {
+                face,
+                image: l.extract_at(state.clone(), region, depth),
+                origin: [l.start(l.rows, region), l.start(l.cols, region)],
+                guide: Some(l.extract_at(guide.clone(), region, depth)),
+            }
+        })
+        .collect()
+}
+
+/// Per axis, the face of `faces` normal to it nearest to `region`'s centre (at most 3).
+pub(crate) fn nearest_faces(region: &Region, faces: &[Face]) -> Vec<Face> {
+    (0..3)
+        .filter_map(|axis| {
+            let centre = 2 * region.offset[axis] + region.dims[axis]; // twice the centre
+            let high_nearer = centre > region.grid;
+            let pick = |high: bool| {
+                faces
+                    .iter()
+                    .copied()
+                    .find(|&f| layout(f).normal == (axis, high))
+            };
+            pick(high_nearer).or_else(|| pick(!high_nearer))
+        })
+        .collect()
+}
+
 /// The planes `depth` voxels inside every face in `faces` that `region` touches (0 = the
 /// faces themselves), each with its guide plane when `guide` is given.
 fn patches_at(
@@ -145,4 +187,40 @@ fn patches_at(
             })
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn crop_at(offset: [usize; 3]) -> Region {
+        Region {
+            grid: 20,
+            offset,
+            dims: [4; 3],
+        }
+    }
+
+    #[test]
+    fn an_interior_crop_is_compared_with_the_nearest_trained_face_on_each_axis() {
+        // Near x = 0 (C), y = high (B), z = low (F); all six faces trained.
+        let r = crop_at([2, 14, 3]);
+        assert_eq!(
+            nearest_faces(&r, &Face::ALL),
+            vec![Face::C, Face::B, Face::F]
+        );
+        // Without C and B the farther face of those axes stands in; without A and F the
+        // z axis has none.
+        let some = [Face::D, Face::E, Face::A];
+        assert_eq!(nearest_faces(&r, &some), vec![Face::E, Face::D, Face::A]);
+        assert_eq!(nearest_faces(&r, &[Face::C]), vec![Face::C]);
+        // The plane's origin is the crop's place on the face; its guide comes along.
+        let state = Tensor::zeros([3, 4, 4, 4], &Default::default());
+        let planes = nearest_face_planes(&state, &state, &r, &[Face::C], 1);
+        assert_eq!(planes.len(), 1);
+        // C's rows run down y (20 - 14 - 4 = 2), its columns along z (3).
+        assert_eq!(planes[0].origin, [2, 3]);
+        assert_eq!(planes[0].image.dims(), [3, 4, 4]);
+        assert!(planes[0].guide.is_some());
+    }
 }

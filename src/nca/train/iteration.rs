@@ -21,7 +21,7 @@ use super::face_guides::{GUIDE_CHANNELS, phase_channels, phase_guides};
 use super::loss::FaceLoss;
 use super::loss_log::LossRow;
 use super::low_band::{LowBand, phase_bins};
-use super::placement::draw_region;
+use super::placement::draw_fresh;
 use super::pool::{Pool, Start};
 use super::targets::{face_targets, match_base_means};
 use crate::device::DeviceKind;
@@ -32,7 +32,9 @@ use crate::nca::checkpoint::{Objective, UnrollGradients, unroll_gradients};
 use crate::nca::colour_axes::colour_projection;
 use crate::nca::conditioning::{Conditioning, Normalisation};
 use crate::nca::config::{Engine, LowBandReference, TargetColour, TrainConfig};
-use crate::nca::faces::{FacePatch, face_patches, inner_patches, layout};
+use crate::nca::faces::{
+    FacePatch, face_patches, inner_patches, layout, nearest_face_planes, nearest_faces,
+};
 use crate::nca::fit_source::FitRecord;
 use crate::nca::fused::{FixedInputs, Isa, MlpWeights, Stepper, burn_bridge};
 use crate::nca::model::{Nca, StepInputs};
@@ -104,6 +106,9 @@ struct RegionInputs {
     step: EngineInputs,
     /// The used faces this region touches.
     faces: Vec<Face>,
+    /// For a region that touches none, with `[loss] interior_style`: the used face nearest
+    /// on each axis (`faces::nearest_faces`), whose photos its inner planes are compared with.
+    nearest: Vec<Face>,
     /// White-balanced B over the region, `[3, X, Y, Z]`.
     colour: Tensor<4>,
     /// Ring-phase guide over the region, `[2, X, Y, Z]` (planes inside the crop).
@@ -212,8 +217,7 @@ impl Trainer {
         let [lo, hi] = cfg.schedule.steps;
         let steps = lo + rng.below(hi - lo + 1);
         let slot_draw = rng.below(self.pool.len().max(1));
-        let v = &cfg.volume;
-        let fresh_region = draw_region(v.size, v.crop, v.placement, &self.source.faces, &mut rng);
+        let fresh_region = draw_fresh(&cfg.volume, &self.source.faces, &mut rng);
         let seed_key = rng.next_u64();
         let [b_lo, b_hi] = cfg.schedule.burn_in;
         let burn_in = b_lo + rng.below(b_hi - b_lo + 1);
@@ -361,12 +365,17 @@ fn region_inputs(
         }
     };
     let colour = data.normalisation.colour_tensor(&vols, device);
-    let faces = data
+    let faces: Vec<Face> = data
         .faces
         .iter()
         .copied()
         .filter(|&f| layout(f).touches(&region))
         .collect();
+    let nearest = if faces.is_empty() && cfg.loss.interior_style {
+        nearest_faces(&region, &data.faces)
+    } else {
+        Vec::new()
+    };
     let phase_bins =
         if cfg.loss.low_band > 0.0 && cfg.loss.low_band_reference == LowBandReference::RingPhase {
             phase_bins(&vols.g.data)
@@ -383,6 +392,7 @@ fn region_inputs(
         region,
         step,
         faces,
+        nearest,
         colour,
         readout: cfg.model.readout,
         normalisation: data.normalisation.clone(),
@@ -468,7 +478,30 @@ fn objective(
             depth,
         ));
     }
-    let style = loss.loss(&faces, iteration);
+    if !inputs.nearest.is_empty() {
+        let side = inputs.region.dims[0];
+        let interior_depths = if depths.is_empty() {
+            vec![side / 2]
+        } else {
+            depths.to_vec()
+        };
+        for depth in interior_depths {
+            faces.extend(nearest_face_planes(
+                &rgb,
+                &inputs.guide,
+                &inputs.region,
+                &inputs.nearest,
+                depth,
+            ));
+        }
+    }
+    // A crop inside the cube without `interior_style` has no face to compare: only the
+    // overflow and low-band terms judge it.
+    let style = if faces.is_empty() {
+        Tensor::zeros([1], &device)
+    } else {
+        loss.loss(&faces, iteration)
+    };
     let overflow = (state.clone() - state.clamp(-1.0, 1.0)).abs().mean();
     let mut terms = vec![
         ("style", style.clone().inner().into_scalar::<f32>()),

@@ -9,10 +9,33 @@
 
 pub use crate::nca::config::Placement;
 
+use crate::nca::config::VolumeConfig;
+
 use crate::frame::Face;
 use crate::nca::faces::layout;
 use crate::nca::region::Region;
 use crate::rng::Rng;
+
+/// Draws the region of a fresh seed: with probability `interior_fraction` anywhere in the
+/// grid ([`draw_anywhere`]), otherwise by `placement` ([`draw_region`]). With a fraction of
+/// 0 no number is drawn for the choice, so configs without one keep their random stream.
+pub fn draw_fresh(volume: &VolumeConfig, faces: &[Face], rng: &mut Rng) -> Region {
+    let (grid, crop) = (volume.size, volume.crop);
+    if volume.interior_fraction > 0.0 && crop < grid && rng.uniform() < volume.interior_fraction {
+        return draw_anywhere(grid, crop, rng);
+    }
+    draw_region(grid, crop, volume.placement, faces, rng)
+}
+
+/// A crop whose offset is uniform on every axis: mostly inside the cube, touching no face.
+pub fn draw_anywhere(grid: usize, crop: usize, rng: &mut Rng) -> Region {
+    let span = grid.saturating_sub(crop) + 1;
+    Region {
+        grid,
+        offset: [rng.below(span), rng.below(span), rng.below(span)],
+        dims: [crop.min(grid); 3],
+    }
+}
 
 /// Draws the region of one iteration; `faces` are the faces trained on (not empty).
 /// The whole grid when `crop >= grid`.
