@@ -192,26 +192,20 @@ fn interior_fraction_draws_crops_inside_the_cube_and_zero_keeps_the_stream() {
         .count();
     // (13/15)^3 = 0.65 of uniform offsets touch no face.
     assert!(inside > 200 && inside < 320, "{inside} of 400 inside");
-    let bad = text(1.5);
-    let err = xylem::nca::TrainConfig::parse(&bad, std::path::Path::new("frac.toml"))
-        .unwrap_err()
-        .to_string();
-    assert!(
-        err.contains("frac.toml") && err.contains("volume.interior_fraction"),
-        "{err}"
-    );
+    // Bad values are refused, naming the file and the key.
+    let refused = |toml: &str, file: &str, key: &str| {
+        let err = xylem::nca::TrainConfig::parse(toml, std::path::Path::new(file))
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains(file) && err.contains(key), "{err}");
+    };
+    refused(&text(1.5), "frac.toml", "volume.interior_fraction");
     // Planes inside the cube compared with the photos need the guided loss.
     let moments = format!(
         "{}[loss]\nface = \"moments\"\ninterior_style = true\n",
         text(0.5)
     );
-    let err = xylem::nca::TrainConfig::parse(&moments, std::path::Path::new("style.toml"))
-        .unwrap_err()
-        .to_string();
-    assert!(
-        err.contains("style.toml") && err.contains("loss.interior_style"),
-        "{err}"
-    );
+    refused(&moments, "style.toml", "loss.interior_style");
 }
 
 /// Dark marks on a light ground: `len` px long vertical dashes, or single-pixel dots.
