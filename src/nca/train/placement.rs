@@ -6,12 +6,16 @@
 //! against a face: a face is drawn among the faces trained on, the crop lies against it and
 //! its other two axes start anywhere in the grid, so every part of every trained face is
 //! seen and crops at an edge or a corner still touch two or three faces.
+//!
+//! Either way no crop reaches the inside of the cube, far from every trained face; with
+//! F held out, the knot behind F's centre ran away there on H11. `[volume]
+//! interior_fraction` draws that share of the fresh crops anywhere in the grid instead
+//! ([`draw_fresh`]).
 
 pub use crate::nca::config::Placement;
 
-use crate::nca::config::VolumeConfig;
-
 use crate::frame::Face;
+use crate::nca::config::VolumeConfig;
 use crate::nca::faces::layout;
 use crate::nca::region::Region;
 use crate::rng::Rng;
