@@ -137,15 +137,7 @@ pub(crate) fn nearest_face_planes(
 ) -> Vec<FacePatch> {
     nearest_faces(region, faces)
         .into_iter()
-        .map(|face| {
-            let l = layout(face);
-            FacePatch {
-                face,
-                image: l.extract_at(state.clone(), region, depth),
-                origin: [l.start(l.rows, region), l.start(l.cols, region)],
-                guide: Some(l.extract_at(guide.clone(), region, depth)),
-            }
-        })
+        .map(|face| plane(face, state, Some(guide), region, depth))
         .collect()
 }
 
@@ -166,6 +158,24 @@ pub(crate) fn nearest_faces(region: &Region, faces: &[Face]) -> Vec<Face> {
         .collect()
 }
 
+/// The plane of `region` parallel to `face`, `depth` voxels in from the crop's side towards
+/// it, at the crop's place on the face image, with its guide plane when `guide` is given.
+fn plane(
+    face: Face,
+    state: &Tensor<4>,
+    guide: Option<&Tensor<4>>,
+    region: &Region,
+    depth: usize,
+) -> FacePatch {
+    let l = layout(face);
+    FacePatch {
+        face,
+        image: l.extract_at(state.clone(), region, depth),
+        origin: [l.start(l.rows, region), l.start(l.cols, region)],
+        guide: guide.map(|g| l.extract_at(g.clone(), region, depth)),
+    }
+}
+
 /// The planes `depth` voxels inside every face in `faces` that `region` touches (0 = the
 /// faces themselves), each with its guide plane when `guide` is given.
 fn patches_at(
@@ -177,15 +187,9 @@ fn patches_at(
 ) -> Vec<FacePatch> {
     faces
         .iter()
-        .filter_map(|&face| {
-            let l = layout(face);
-            l.touches(region).then(|| FacePatch {
-                face,
-                image: l.extract_at(state.clone(), region, depth),
-                origin: [l.start(l.rows, region), l.start(l.cols, region)],
-                guide: guide.map(|g| l.extract_at(g.clone(), region, depth)),
-            })
-        })
+        .copied()
+        .filter(|&face| layout(face).touches(region))
+        .map(|face| plane(face, state, guide, region, depth))
         .collect()
 }
 
