@@ -297,3 +297,39 @@ fn mismatched_inputs_are_errors() {
     assert!("portable".parse::<Isa>().is_ok());
     assert!("sse9".parse::<Isa>().is_err());
 }
+
+/// `[model] positions = false`: the rule cannot tell two places apart by their position
+/// channels, so the same start and conditioning unroll alike anywhere in the grid, on both
+/// engines; with positions seen, they do not.
+#[test]
+fn without_positions_a_crop_unrolls_alike_anywhere_in_the_grid() {
+    let spec = ModelSpec {
+        positions: false,
+        ..spec(16, vec![CondChannel::GreyB, CondChannel::G])
+    };
+    let w = weights(&spec, 70);
+    let near = Case::new(spec.clone(), region(16, [0, 0, 0], [4, 5, 6]), 7);
+    let far = Case::new(spec, region(16, [12, 9, 3], [4, 5, 6]), 7);
+    let fused = |case: &Case, seen: bool| {
+        let fixed = case.fixed().with_positions(seen);
+        let stepper = Stepper::new(Isa::best(), &w, &fixed).unwrap();
+        stepper.unroll(case.start.clone(), 3, |_| {})
+    };
+    assert_eq!(fused(&near, false), fused(&far, false));
+    assert!(max_abs_diff(&fused(&near, true), &fused(&far, true)) > 1e-3);
+
+    let device = Device::flex();
+    let m = burn_model(&w, &device);
+    let [x, y, z] = far.region.dims;
+    let cond = tensor_from(far.cond.clone(), [2, x, y, z], &device);
+    let inputs = StepInputs::new(
+        Some(cond),
+        far.region.position_inputs(false, &device),
+        PerceptionImpl::Shifted,
+    );
+    let s0 = tensor_from(far.start.clone(), far.dims(), &device);
+    let burn = to_vec(unroll(&m, s0, &inputs, 3, 1 << 20, |_| {})).unwrap();
+    let reference = change(&burn, &far.start);
+    let (err, _) = relative_error(&change(&fused(&far, false), &far.start), &reference);
+    assert!(err < 1e-5, "burn and fused without positions: {err:e}");
+}

@@ -67,6 +67,13 @@ pub struct ModelSpec {
     /// magenta-green axis the photos' texture barely has, 1 = light-dark wood colour only.
     #[serde(skip_serializing_if = "is_every_colour")]
     pub colour_axes: usize,
+    /// Whether the rule sees its place in the grid (3 position channels in (-1, 1)). With
+    /// `false` those channels are zero: the rule can only tell places apart by their
+    /// conditioning, so a crop inside the cube is painted by the rule that paints the faces
+    /// (BENCHMARKS "Without position channels"). Left out of the stored spec when true, so
+    /// models written before it existed are written alike.
+    #[serde(skip_serializing_if = "is_true")]
+    pub positions: bool,
 }
 
 fn is_default_rays(spec: &RayNoiseSpec) -> bool {
@@ -77,6 +84,10 @@ fn is_default_rays(spec: &RayNoiseSpec) -> bool {
 /// before the option existed and without it are written alike.
 fn is_every_colour(axes: &usize) -> bool {
     *axes == 3
+}
+
+fn is_true(flag: &bool) -> bool {
+    *flag
 }
 
 /// The training grid and the part of it each iteration unrolls.
@@ -351,6 +362,7 @@ impl Default for ModelSpec {
             ray_noise: RayNoiseSpec::default(),
             readout: Readout::default(),
             colour_axes: 3,
+            positions: true,
         }
     }
 }

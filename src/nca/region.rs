@@ -82,4 +82,15 @@ impl Region {
         }
         tensor_from(data, [3, dx, dy, dz], device)
     }
+
+    /// The position channels a model sees (`ModelSpec::positions`): [`Self::positions`], or
+    /// zeros `[3, X, Y, Z]` for a model that does not see its place.
+    pub fn position_inputs(&self, seen: bool, device: &Device) -> Tensor<4> {
+        if seen {
+            self.positions(device)
+        } else {
+            let [dx, dy, dz] = self.dims;
+            Tensor::zeros([3, dx, dy, dz], device)
+        }
+    }
 }

@@ -83,7 +83,11 @@ pub fn synthesise(
     let vols = conditioning_volumes(trained, options, &region);
     let cond = (!spec.conditioning.is_empty())
         .then(|| norm.cond_tensor(&spec.conditioning, &vols, device));
-    let inputs = StepInputs::new(cond, region.positions(device), spec.perception);
+    let inputs = StepInputs::new(
+        cond,
+        region.position_inputs(spec.positions, device),
+        spec.perception,
+    );
     let seed = seed_state(
         spec.state_channels,
         spec.seed_amplitude,
@@ -146,7 +150,8 @@ pub fn synthesise_at(
             norm.colour_data(&vols),
         )
     };
-    let fixed = FixedInputs::new(&region, cond, spec.cond_channels())?;
+    let fixed =
+        FixedInputs::new(&region, cond, spec.cond_channels())?.with_positions(spec.positions);
     let weights = MlpWeights::from_model(&trained.model)?;
     let stepper = Stepper::new(Isa::best(), &weights, &fixed)?;
     let mut state = seed_data(

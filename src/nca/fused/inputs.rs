@@ -56,6 +56,17 @@ impl FixedInputs {
         })
     }
 
+    /// The same inputs with the position tables zeroed when the model does not see its
+    /// place (`ModelSpec::positions`).
+    pub fn with_positions(mut self, seen: bool) -> Self {
+        if !seen {
+            for table in &mut self.positions {
+                table.fill(0.0);
+            }
+        }
+        self
+    }
+
     /// Channel plane `k` of the conditioning, `[X, Y, Z]`.
     pub(crate) fn cond_plane(&self, k: usize) -> &[f32] {
         let n = self.dims.cells();

@@ -356,11 +356,13 @@ fn region_inputs(
     let cond = data.normalisation.cond_data(channels, &vols);
     let k = cfg.model.cond_channels();
     let step = match cfg.compute.engine {
-        Engine::Fused => EngineInputs::Fused(FixedInputs::new(&region, cond, k)?),
+        Engine::Fused => EngineInputs::Fused(
+            FixedInputs::new(&region, cond, k)?.with_positions(cfg.model.positions),
+        ),
         Engine::Burn => {
             let [x, y, z] = region.dims;
             let cond = (k > 0).then(|| tensor_from(cond, [k, x, y, z], device));
-            let positions = region.positions(device);
+            let positions = region.position_inputs(cfg.model.positions, device);
             EngineInputs::Burn(StepInputs::new(cond, positions, cfg.model.perception))
         }
     };
