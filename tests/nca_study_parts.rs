@@ -1,7 +1,8 @@
 //! The parts issue 12 added to make the NCA paint pores in their rings: the guided local loss
 //! (pores at the right ring phase score better than the same pores at the wrong phase), crop
-//! placement along the faces, the pore-anisotropy metric (dashes vs dots) and the pore
-//! density by ring phase.
+//! placement along the faces, the pore-anisotropy metric (dashes vs dots), the pixel-scale
+//! energy term and speckle metric (dashes vs a stipple of them) and the pore density by
+//! ring phase.
 
 use burn::tensor::Device;
 
@@ -11,6 +12,7 @@ use xylem::frame::Face;
 use xylem::loss::{GuidedConfig, GuidedLoss, GuidedPatch, LossConfig, image_to_tensor};
 use xylem::metrics::anisotropy::pore_anisotropy;
 use xylem::metrics::phase_density::{PhaseDensity, curve_correlation};
+use xylem::metrics::speckle::speckle;
 use xylem::nca::faces::layout;
 use xylem::nca::train::placement::{Placement, draw_fresh, draw_region};
 use xylem::rng::{Rng, hash3, unit};
@@ -228,6 +230,67 @@ fn anisotropy_tells_dashes_from_dots() {
     assert!(dashes > dots + 0.25, "dashes {dashes}, dots {dots}");
     assert!((0.0..=1.0).contains(&dashes) && (0.0..=1.0).contains(&dots));
     assert_eq!(pore_anisotropy(&Image2::filled(64, 64, 3, 0.5)), 0.0);
+}
+
+/// `img` with every other pixel of its dark marks lit again, in a checkerboard: the stipple
+/// the NCA drew instead of dashes.
+fn stippled(img: &Image2) -> Image2 {
+    let mut out = img.clone();
+    for r in 0..img.height {
+        for c in 0..img.width {
+            if (r + c) % 2 == 1 && img.get(r, c, 0) < 0.5 {
+                out.pixel_mut(r, c).copy_from_slice(&[0.75; 3]);
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn speckle_tells_dashes_from_a_stipple_of_them() {
+    let dashes = marks(9, 1);
+    let (smooth, stipple) = (speckle(&dashes), speckle(&stippled(&dashes)));
+    assert!(stipple > smooth + 0.5, "dashes {smooth}, stipple {stipple}");
+}
+
+#[test]
+fn the_fine_term_tells_dashes_from_a_stipple_of_them() {
+    let device = Device::flex();
+    let fine_loss = |weight: f32| {
+        let cfg = GuidedConfig {
+            fine_weight: weight,
+            ..GuidedConfig::default()
+        };
+        GuidedLoss::new(&small_style(), &cfg, &device)
+    };
+    let photo = marks(9, 1).crop(0, 0, 64, 64).unwrap();
+    let fine = |loss: &GuidedLoss, generated: &Image2| {
+        let target = loss.target(&photo, &guide(64, 8.0)).unwrap();
+        let p = GuidedPatch {
+            image: image_to_tensor(&generated.crop(20, 20, 24, 24).unwrap(), &device),
+            target: 0,
+            origin: [20, 20],
+            guide: None,
+        };
+        let terms = loss.terms(&[p], &[target], 0).unwrap();
+        (
+            terms.fine.into_scalar::<f32>(),
+            terms.total.into_scalar::<f32>(),
+        )
+    };
+    let other = marks(9, 2).crop(0, 0, 64, 64).unwrap();
+    let on = fine_loss(1.0);
+    let ((dashes, _), (stipple, _)) = (fine(&on, &other), fine(&on, &stippled(&other)));
+    assert!(
+        stipple > 4.0 * dashes.max(0.05),
+        "fine term: dashes {dashes}, stipple {stipple}"
+    );
+    // Off by default: nothing added to the total.
+    let off = fine_loss(0.0);
+    let (zero, total_off) = fine(&off, &stippled(&other));
+    let (_, total_on) = fine(&on, &stippled(&other));
+    assert_eq!(zero, 0.0);
+    assert!((total_on - total_off - stipple).abs() < 1e-3 * total_on.max(1.0));
 }
 
 #[test]

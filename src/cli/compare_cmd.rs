@@ -28,6 +28,10 @@ Prints one JSON object on stdout:
   dE_mean     distance of the mean Lab colours (Delta E)
   dE_std      distance of the Lab standard deviations (Delta E)
   style       the style loss of the candidate against the reference (0 = same statistics)
+  aniso       pore-scale anisotropy of the candidate, 0 to 1 (dots 0, dashes towards 1);
+              aniso_ref the reference's (same = alike)
+  speckle     pixel-scale speckle of the candidate: checkerboard over neighbour-difference
+              energy (smooth 0, white noise 1, checkerboard 2); speckle_ref the reference's
 A candidate of another size is resized to the reference's if the aspect ratios agree.")]
 pub struct CompareArgs {
     /// The reference image (PNG).

@@ -35,6 +35,7 @@ use super::colour::colour_axes;
 use super::config::LossConfig;
 use super::distance::{SCALE_EPS, relative_mse};
 use super::features::FeatureExtractor;
+use super::fine_energy::{fine_distance, fine_energies};
 use super::guided_config::GuidedConfig;
 use super::image_tensor::{image_to_tensor, planar_tensor, tensor_values};
 use super::pyramid::pyramid;
@@ -75,12 +76,14 @@ pub struct GuidedPatch {
     pub guide: Option<Tensor<3>>,
 }
 
-/// The loss of one call: total and its two terms, each averaged over patches.
+/// The loss of one call: total and its terms, each averaged over patches.
 #[derive(Clone, Debug)]
 pub struct GuidedTerms {
     pub swd: Tensor<1>,
     pub colour: Tensor<1>,
-    /// `swd weight x swd + colour weight x colour`, `[1]`.
+    /// The pixel-scale energy term (0 unless `[loss.guided] fine_weight` > 0).
+    pub fine: Tensor<1>,
+    /// `swd weight x swd + colour weight x colour + fine_weight x fine`, `[1]`.
     pub total: Tensor<1>,
 }
 
@@ -121,6 +124,8 @@ struct WindowStats {
     /// Per feature layer (`None` where the patch or window has none).
     layers: Vec<Option<LayerStats>>,
     colour: ColourStats,
+    /// The window's pixel-scale energies, when the fine term is on.
+    fine: Option<[f32; 3]>,
 }
 
 struct LayerStats {
@@ -211,6 +216,7 @@ impl GuidedLoss {
     ) -> Result<GuidedTerms> {
         let mut swd = Vec::with_capacity(patches.len());
         let mut colour = Vec::with_capacity(patches.len());
+        let mut fine = Vec::with_capacity(patches.len());
         let mut windows: HashMap<(usize, [usize; 2], [usize; 2]), WindowStats> = HashMap::new();
         for (i, p) in patches.iter().enumerate() {
             let target = targets.get(p.target).ok_or_else(|| {
@@ -224,9 +230,10 @@ impl GuidedLoss {
             let stats = windows
                 .entry((p.target, p.origin, [h, w]))
                 .or_insert_with(|| self.window_stats(target, p.origin, [h, w], call));
-            let (s, c) = self.patch_terms(p, target, stats);
+            let [s, c, e] = self.patch_terms(p, target, stats);
             swd.push(s);
             colour.push(c);
+            fine.push(e);
         }
         let mean = |v: Vec<Tensor<1>>| {
             let n = v.len().max(1) as f32;
@@ -235,10 +242,17 @@ impl GuidedLoss {
                 .map(|s| s.div_scalar(n))
                 .unwrap_or_else(|| Tensor::zeros([1], &self.device))
         };
-        let (swd, colour) = (mean(swd), mean(colour));
+        let (swd, colour, fine) = (mean(swd), mean(colour), mean(fine));
         let w = &self.style.weights;
-        let total = swd.clone().mul_scalar(w.swd) + colour.clone().mul_scalar(w.colour);
-        Ok(GuidedTerms { swd, colour, total })
+        let total = swd.clone().mul_scalar(w.swd)
+            + colour.clone().mul_scalar(w.colour)
+            + fine.clone().mul_scalar(self.guided.fine_weight);
+        Ok(GuidedTerms {
+            swd,
+            colour,
+            fine,
+            total,
+        })
     }
 
     fn check_patch(&self, p: &GuidedPatch, target: &GuidedTarget, index: usize) -> Result<()> {
@@ -285,9 +299,14 @@ impl GuidedLoss {
             .enumerate()
             .map(|(l, (f, g))| Some(self.layer_stats(f?, g?, l, call)))
             .collect();
+        let fine = (self.guided.fine_weight > 0.0).then(|| {
+            let e = tensor_values(fine_energies(image.clone())).unwrap_or_default();
+            [0, 1, 2].map(|i| e.get(i).copied().unwrap_or(0.0))
+        });
         WindowStats {
             layers,
             colour: self.colour_stats(flat(image)),
+            fine,
         }
     }
 
@@ -297,7 +316,7 @@ impl GuidedLoss {
         p: &GuidedPatch,
         target: &GuidedTarget,
         stats: &WindowStats,
-    ) -> (Tensor<1>, Tensor<1>) {
+    ) -> [Tensor<1>; 3] {
         let [_, h, w] = p.image.dims();
         let [r0, c0] = p.origin;
         let guide = p
@@ -318,10 +337,14 @@ impl GuidedLoss {
             .reduce(|a, b| a + b)
             .map(|s| s.div_scalar(n))
             .unwrap_or_else(|| Tensor::zeros([1], &self.device));
+        let fine = match &stats.fine {
+            Some(target) => fine_distance(fine_energies(p.image.clone()), target),
+            None => Tensor::zeros([1], &self.device),
+        };
         let colour = stats
             .colour
             .distance(flat(p.image.clone()), &self.colour_axes);
-        (swd, colour)
+        [swd, colour, fine]
     }
 
     /// The guide channels of each feature layer of an `h` x `w` image: the guide image's own

@@ -16,6 +16,10 @@ pub struct GuidedConfig {
     /// Weight of the guide channels (ring phase) in the joint distribution, relative to the
     /// spread of an average feature; 0 compares plain local statistics.
     pub guide_weight: f32,
+    /// Weight of the pixel-scale energy term (`super::fine_energy`): the patch's
+    /// neighbour-difference and checkerboard energies against the window's. 0 (default)
+    /// leaves it out and computes nothing for it.
+    pub fine_weight: f32,
 }
 
 impl Default for GuidedConfig {
@@ -23,6 +27,7 @@ impl Default for GuidedConfig {
         Self {
             margin: 8,
             guide_weight: 2.0,
+            fine_weight: 0.0,
         }
     }
 }
@@ -36,6 +41,13 @@ impl GuidedConfig {
             0.0,
             100.0,
             "weight of the guide channels",
+        )?;
+        check.range(
+            "fine_weight",
+            self.fine_weight,
+            0.0,
+            100.0,
+            "weight of the pixel-scale energy term",
         )
     }
 }

@@ -29,6 +29,7 @@ pub mod config;
 pub mod distance;
 pub mod features;
 pub mod filters;
+pub(crate) mod fine_energy;
 pub mod gram;
 pub mod guided;
 pub(crate) mod guided_config;

@@ -7,6 +7,8 @@
 //!   chroma alone (sliced Wasserstein of Lab patches at two scales);
 //! - [`anisotropy`]: pore-scale anisotropy `aniso` of the candidate (and `aniso_ref` of the
 //!   reference): dashes vs dots;
+//! - [`speckle`]: pixel-scale speckle `speckle` of the candidate (and `speckle_ref`):
+//!   checkerboard stipple vs continuous detail;
 //! - [`lab`]: Lab colour mean and spread differences `dE_mean`, `dE_std`;
 //! - [`phase_density`]: pore density by ring phase (where in the ring the pores are) and the
 //!   correlation of two such curves;
@@ -22,6 +24,7 @@ pub mod phase_density;
 pub mod report;
 pub mod ring;
 pub mod sheet;
+pub mod speckle;
 pub mod vessels;
 
 pub use report::{Comparer, METRIC_NAMES, Metrics, compare};

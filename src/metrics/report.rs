@@ -12,12 +12,13 @@ use super::lab::{colour_differences, image_to_lab};
 use super::orientation::orientation_agreement;
 use super::patch_swd::{PatchChannels, PatchSwdSettings, patch_swd};
 use super::ring::{RingSettings, ring_ncc};
+use super::speckle::speckle;
 use crate::error::{Result, XylemError};
 use crate::image2::Image2;
 use crate::loss::{LossConfig, StyleLoss, StyleTargets, image_to_tensor};
 
 /// Metric names in output order (JSON keys, CSV columns).
-pub const METRIC_NAMES: [&str; 10] = [
+pub const METRIC_NAMES: [&str; 12] = [
     "ring_ncc",
     "orient",
     "swd",
@@ -28,10 +29,12 @@ pub const METRIC_NAMES: [&str; 10] = [
     "style",
     "aniso",
     "aniso_ref",
+    "speckle",
+    "speckle_ref",
 ];
 
 /// The metrics of one comparison. Perfect values: `ring_ncc` 1, `orient` 1, `aniso` equal to
-/// `aniso_ref`, all others 0.
+/// `aniso_ref`, `speckle` equal to `speckle_ref`, all others 0.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Metrics {
     /// Ring alignment: best correlation of band-passed luminance over small shifts, [-1, 1].
@@ -55,11 +58,16 @@ pub struct Metrics {
     pub aniso: f32,
     /// Pore-scale anisotropy of the reference.
     pub aniso_ref: f32,
+    /// Pixel-scale speckle of the candidate (white noise 1, checkerboard 2; not a distance:
+    /// compare with `speckle_ref`).
+    pub speckle: f32,
+    /// Pixel-scale speckle of the reference.
+    pub speckle_ref: f32,
 }
 
 impl Metrics {
     /// The values in [`METRIC_NAMES`] order.
-    pub fn values(&self) -> [f32; 10] {
+    pub fn values(&self) -> [f32; 12] {
         [
             self.ring_ncc,
             self.orient,
@@ -71,6 +79,8 @@ impl Metrics {
             self.style,
             self.aniso,
             self.aniso_ref,
+            self.speckle,
+            self.speckle_ref,
         ]
     }
 
@@ -137,6 +147,8 @@ impl Comparer {
             style: self.style(&self.style_reference(&reference)?, &candidate)?,
             aniso: pore_anisotropy(&candidate),
             aniso_ref: pore_anisotropy(&reference),
+            speckle: speckle(&candidate),
+            speckle_ref: speckle(&reference),
         })
     }
 

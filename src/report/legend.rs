@@ -46,7 +46,7 @@ pub(crate) struct MetricInfo {
 }
 
 /// Every metric `xylem compare` writes (`metrics::METRIC_NAMES`), in that order.
-pub(crate) const METRICS: [MetricInfo; 10] = [
+pub(crate) const METRICS: [MetricInfo; 12] = [
     MetricInfo {
         name: "ring_ncc",
         better: Better::Higher,
@@ -110,6 +110,19 @@ pub(crate) const METRICS: [MetricInfo; 10] = [
         better: Better::Reference,
         perfect: "",
         meaning: "pore-scale anisotropy of the reference image",
+    },
+    MetricInfo {
+        name: "speckle",
+        better: Better::CloserTo("speckle_ref"),
+        perfect: "speckle_ref",
+        meaning: "pixel-scale speckle of the candidate: checkerboard over neighbour-difference \
+                  energy (smooth detail near 0, white noise 1, checkerboard 2)",
+    },
+    MetricInfo {
+        name: "speckle_ref",
+        better: Better::Reference,
+        perfect: "",
+        meaning: "pixel-scale speckle of the reference image",
     },
 ];
 
