@@ -294,6 +294,34 @@ fn the_fine_term_tells_dashes_from_a_stipple_of_them() {
 }
 
 #[test]
+fn fine_weight_is_refused_out_of_range_or_without_the_guided_loss() {
+    use xylem::config::ConfigFile;
+    let config = |loss: &str| {
+        format!(
+            "seed = 1\n[volume]\nsize = 20\ncrop = 6\n[schedule]\niterations = 3\n\
+             steps = [2, 3]\n[pool]\nsize = 0\n{loss}"
+        )
+    };
+    let parse = |text: &str| {
+        xylem::nca::TrainConfig::parse(text, std::path::Path::new("fine.toml"))
+            .map(|c| c.loss.guided.fine_weight)
+            .map_err(|e| e.to_string())
+    };
+    let guided = |weight: &str| {
+        format!("[loss]\nface = \"guided\"\n[loss.guided]\nfine_weight = {weight}\n")
+    };
+    assert_eq!(parse(&config(&guided("0.05"))), Ok(0.05));
+    let moments = "[loss]\nface = \"moments\"\n[loss.guided]\nfine_weight = 0.05\n";
+    for bad in [guided("-1.0"), moments.to_string()] {
+        let err = parse(&config(&bad)).unwrap_err();
+        assert!(
+            err.contains("fine.toml") && err.contains("loss.guided.fine_weight"),
+            "{err}"
+        );
+    }
+}
+
+#[test]
 fn phase_density_finds_the_pores_ring_phase() {
     let n = 256;
     let period = 16.0;

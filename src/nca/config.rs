@@ -567,6 +567,16 @@ impl ConfigFile for TrainConfig {
                 "= true: planes inside the cube need the guided loss (face = \"guided\")",
             ));
         }
+        if self.loss.guided.fine_weight > 0.0 && self.loss.face != FaceLossKind::Guided {
+            return Err(l.nested("guided").error(
+                "fine_weight",
+                format!(
+                    "= {}: the pixel-scale energy term is part of the guided loss \
+                     (face = \"guided\"); use 0 with another face loss",
+                    self.loss.guided.fine_weight
+                ),
+            ));
+        }
         let m = check.nested("memory");
         m.count(
             "segment_steps",
