@@ -6,10 +6,11 @@
 //! scale (dashes, ring edges) near 0.
 //!
 //! Why: the NCA's pores were stippled dots where the photos have continuous dashes; the
-//! patch and style statistics hardly see it (BENCHMARKS "Pixel-scale energy"). Measured on
-//! the photos and the NCA's faces: CN03 C .69 against .69 to 1.06 for the NCA, the
-//! synthetic chestnut's face C .30 against .83. Like `aniso` it is a property of each
-//! image: compare the candidate's with `speckle_ref`.
+//! patch and style statistics hardly see it (BENCHMARKS "Pixel-scale energy"). Measured
+//! with quality.toml before the pixel-scale energy term (lrq2ip10): the synthetic
+//! chestnut's hidden cut2 .71 against the truth's .30, CN03 C held out .93 against the
+//! photo's .69. Like `aniso` it is a property of each image: compare the candidate's with
+//! `speckle_ref`.
 
 use super::anisotropy::high_passed_lightness;
 use crate::image2::Image2;
