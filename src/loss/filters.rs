@@ -14,7 +14,7 @@ use super::config::FilterConfig;
 use crate::rng::Rng;
 
 /// Rec. 709 luminance weights: oriented filters act on luminance.
-const LUMA: [f32; 3] = [0.2126, 0.7152, 0.0722];
+pub(crate) const LUMA: [f32; 3] = [0.2126, 0.7152, 0.0722];
 
 /// The two opponent colour axes (red-green, yellow-blue), orthogonal to grey.
 fn opponent_axes() -> [[f32; 3]; 2] {

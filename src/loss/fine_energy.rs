@@ -12,8 +12,7 @@
 
 use burn::tensor::{Tensor, TensorData};
 
-/// Rec. 709 luminance weights.
-const LUMA: [f32; 3] = [0.2126, 0.7152, 0.0722];
+use super::filters::LUMA;
 
 /// Added to every energy before the log: far below a photo's (about 1e-3 in the loss's
 /// colour units, where the mean colour is 0.5), so it only guards a flat patch.
@@ -41,14 +40,15 @@ pub(crate) fn fine_energies(image: Tensor<3>) -> Tensor<1> {
     Tensor::cat(vec![down, across, checker], 0)
 }
 
-/// Mean over the three energies of (ln generated - ln target)^2, `[1]`.
-pub(crate) fn fine_distance(generated: Tensor<1>, target: &[f32; 3]) -> Tensor<1> {
-    let device = generated.device();
-    let target = Tensor::<1>::from_data(
-        TensorData::new(target.map(|e| (e + ENERGY_EPS).ln()).to_vec(), [3]),
-        &device,
-    );
-    (generated.add_scalar(ENERGY_EPS).log() - target)
+/// ln(energy + ENERGY_EPS) of each energy `[3]`: what [`fine_distance`] compares.
+pub(crate) fn log_energies(energies: Tensor<1>) -> Tensor<1> {
+    energies.add_scalar(ENERGY_EPS).log()
+}
+
+/// Mean over the three energies of (ln generated - ln target)^2, `[1]`; `target_log` from
+/// [`log_energies`] of the window.
+pub(crate) fn fine_distance(generated: Tensor<1>, target_log: &Tensor<1>) -> Tensor<1> {
+    (log_energies(generated) - target_log.clone())
         .square()
         .mean()
 }
@@ -100,13 +100,14 @@ mod tests {
     fn the_distance_is_zero_on_the_target_and_grows_with_the_ratio() {
         let e = [1e-3f32, 2e-3, 5e-4];
         let same = energies(e);
-        let zero = values(fine_distance(same, &e))[0];
+        let target = log_energies(energies(e));
+        let zero = values(fine_distance(same, &target))[0];
         assert!(zero.abs() < 1e-8, "{zero}");
         let double = energies(e.map(|x| 2.0 * x));
         let half = energies(e.map(|x| 0.5 * x));
         let (d2, d05) = (
-            values(fine_distance(double, &e))[0],
-            values(fine_distance(half, &e))[0],
+            values(fine_distance(double, &target))[0],
+            values(fine_distance(half, &target))[0],
         );
         // ln 2 squared, for twice and for half the energy alike (up to ENERGY_EPS, a
         // thousandth of these energies)

@@ -35,7 +35,7 @@ use super::colour::colour_axes;
 use super::config::LossConfig;
 use super::distance::{SCALE_EPS, relative_mse};
 use super::features::FeatureExtractor;
-use super::fine_energy::{fine_distance, fine_energies};
+use super::fine_energy::{fine_distance, fine_energies, log_energies};
 use super::guided_config::GuidedConfig;
 use super::image_tensor::{image_to_tensor, planar_tensor, tensor_values};
 use super::pyramid::pyramid;
@@ -124,8 +124,8 @@ struct WindowStats {
     /// Per feature layer (`None` where the patch or window has none).
     layers: Vec<Option<LayerStats>>,
     colour: ColourStats,
-    /// The window's pixel-scale energies, when the fine term is on.
-    fine: Option<[f32; 3]>,
+    /// The window's pixel-scale log energies `[3]`, when the fine term is on.
+    fine: Option<Tensor<1>>,
 }
 
 struct LayerStats {
@@ -299,10 +299,8 @@ impl GuidedLoss {
             .enumerate()
             .map(|(l, (f, g))| Some(self.layer_stats(f?, g?, l, call)))
             .collect();
-        let fine = (self.guided.fine_weight > 0.0).then(|| {
-            let e = tensor_values(fine_energies(image.clone())).unwrap_or_default();
-            [0, 1, 2].map(|i| e.get(i).copied().unwrap_or(0.0))
-        });
+        let fine =
+            (self.guided.fine_weight > 0.0).then(|| log_energies(fine_energies(image.clone())));
         WindowStats {
             layers,
             colour: self.colour_stats(flat(image)),
