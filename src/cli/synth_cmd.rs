@@ -39,7 +39,8 @@ pub struct SynthArgs {
     /// Unroll steps (90, as the Mokume paper's inference).
     #[arg(long, default_value_t = 90, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=2048))]
     pub steps: usize,
-    /// Seed of the initial state (default: the training seed).
+    /// Seed of the initial state and of the grain-noise realisation (default: the training
+    /// seed): another seed gives another draw of the same wood.
     #[arg(long)]
     pub seed: Option<u64>,
     /// Output folder.

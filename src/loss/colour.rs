@@ -8,6 +8,7 @@
 use burn::tensor::{Device, Tensor, TensorData};
 
 use super::distance::relative_mse;
+use super::filters::LUMA;
 use super::moments::{mean_and_covariance, mean_variance};
 use super::sliced_wasserstein::{SortedTarget, sorted_projections};
 
@@ -36,7 +37,7 @@ pub fn colour_axes(device: &Device, joint: bool) -> Tensor<2> {
 fn six_axes() -> Vec<f32> {
     let s2 = std::f32::consts::FRAC_1_SQRT_2;
     let s6 = 1.0 / 6f32.sqrt();
-    let luma = [0.2126f32, 0.7152, 0.0722];
+    let luma = LUMA;
     let ln = luma.iter().map(|v| v * v).sum::<f32>().sqrt();
     #[rustfmt::skip]
     let data = vec![

@@ -58,7 +58,8 @@ pub fn synth_into(
         reporter.note(&format!(
             "warning: {} values sit at the colour bounds: the NCA state has probably run away \
              somewhere (a blown-out blob, often on a knot no training face showed); look at the \
-             faces and cuts, or unroll fewer steps (--steps 24)",
+             faces and cuts; a rare blob depends on the seed: synthesise again with another \
+             (`xylem synth --model MODEL --seed 2`), or unroll fewer steps (--steps 24)",
             range.pinned_count
         ));
     }
