@@ -59,7 +59,8 @@ pub fn synth_into(
             "warning: {} values sit at the colour bounds: the NCA state has probably run away \
              somewhere (a blown-out blob, often on a knot no training face showed); look at the \
              faces and cuts; a rare blob depends on the seed: synthesise again with another \
-             (`xylem synth --model MODEL --seed 2`), or unroll fewer steps (--steps 24)",
+             (`xylem synth --model MODEL --seed 2`, MODEL = RUN/train after `xylem run`), or \
+             unroll fewer steps (--steps 24)",
             range.pinned_count
         ));
     }
