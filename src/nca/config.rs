@@ -431,6 +431,21 @@ impl TrainConfig {
             .count();
         self.schedule.learning_rate * self.schedule.decay_factor.powi(decays as i32)
     }
+
+    /// Refuses `key` (under `at`) when it is `used` without the guided face loss, whose
+    /// part it is.
+    fn needs_guided_loss(
+        &self,
+        at: &Checker,
+        key: &str,
+        used: bool,
+        message: String,
+    ) -> Result<()> {
+        if used && self.loss.face != FaceLossKind::Guided {
+            return Err(at.error(key, message));
+        }
+        Ok(())
+    }
 }
 
 impl ConfigFile for TrainConfig {
@@ -552,31 +567,32 @@ impl ConfigFile for TrainConfig {
             64,
             "planes inside a crop compared with the photos",
         )?;
-        if self.loss.inner_planes > 0 && self.loss.face != FaceLossKind::Guided {
-            return Err(l.error(
-                "inner_planes",
-                format!(
-                    "= {}: planes inside the crop need the guided loss (face = \"guided\")",
-                    self.loss.inner_planes
-                ),
-            ));
-        }
-        if self.loss.interior_style && self.loss.face != FaceLossKind::Guided {
-            return Err(l.error(
-                "interior_style",
-                "= true: planes inside the cube need the guided loss (face = \"guided\")",
-            ));
-        }
-        if self.loss.guided.fine_weight > 0.0 && self.loss.face != FaceLossKind::Guided {
-            return Err(l.nested("guided").error(
-                "fine_weight",
-                format!(
-                    "= {}: the pixel-scale energy term is part of the guided loss \
-                     (face = \"guided\"); use 0 with another face loss",
-                    self.loss.guided.fine_weight
-                ),
-            ));
-        }
+        // Parts of the guided loss (src/loss/guided.rs): refused with any other face loss.
+        self.needs_guided_loss(
+            &l,
+            "inner_planes",
+            self.loss.inner_planes > 0,
+            format!(
+                "= {}: planes inside the crop need the guided loss (face = \"guided\")",
+                self.loss.inner_planes
+            ),
+        )?;
+        self.needs_guided_loss(
+            &l,
+            "interior_style",
+            self.loss.interior_style,
+            "= true: planes inside the cube need the guided loss (face = \"guided\")".into(),
+        )?;
+        self.needs_guided_loss(
+            &l.nested("guided"),
+            "fine_weight",
+            self.loss.guided.fine_weight > 0.0,
+            format!(
+                "= {}: the pixel-scale energy term is part of the guided loss \
+                 (face = \"guided\"); use 0 with another face loss",
+                self.loss.guided.fine_weight
+            ),
+        )?;
         let m = check.nested("memory");
         m.count(
             "segment_steps",
