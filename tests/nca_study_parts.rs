@@ -11,7 +11,7 @@ use xylem::Image2;
 use xylem::frame::Face;
 use xylem::loss::{GuidedConfig, GuidedLoss, GuidedPatch, LossConfig, image_to_tensor};
 use xylem::metrics::anisotropy::pore_anisotropy;
-use xylem::metrics::phase_density::{PhaseDensity, curve_correlation};
+use xylem::metrics::phase_density::{PhaseDensity, curve_correlation, curve_slope};
 use xylem::metrics::speckle::speckle;
 use xylem::nca::faces::layout;
 use xylem::nca::train::placement::{Placement, draw_fresh, draw_region};
@@ -20,16 +20,33 @@ use xylem::rng::{Rng, hash3, unit};
 /// Rings every `period` columns (G = column / period); pores (dark pixels) only in the first
 /// `early` of each ring, at hashed places; `shift` moves the pores by a fraction of a ring.
 fn ring_porous(n: usize, period: f32, early: f32, shift: f32, seed: u64) -> Image2 {
+    porous(n, period, early, shift, 0.0, seed)
+}
+
+/// [`ring_porous`] with pores also in the latewood, each pixel with probability `latewood`.
+fn porous(n: usize, period: f32, early: f32, shift: f32, latewood: f32, seed: u64) -> Image2 {
     let mut img = Image2::filled(n, n, 3, 0.0);
     for r in 0..n {
         for c in 0..n {
             let phase = (c as f32 / period + shift).rem_euclid(1.0);
-            let pore = phase < early && unit(hash3(seed, r as i32, c as i32, 0)) < 0.35;
+            let chance = if phase < early { 0.35 } else { latewood };
+            let pore = unit(hash3(seed, r as i32, c as i32, 0)) < chance;
             let v = if pore { 0.3 } else { 0.7 };
             img.pixel_mut(r, c).copy_from_slice(&[v, 0.8 * v, 0.6 * v]);
         }
     }
     img
+}
+
+/// G = column / period (rings upright, one every `period` pixels).
+fn growth_across_columns(n: usize, period: f32) -> Image2 {
+    let mut growth = Image2::filled(n, n, 1, 0.0);
+    for r in 0..n {
+        for c in 0..n {
+            growth.pixel_mut(r, c)[0] = c as f32 / period;
+        }
+    }
+    growth
 }
 
 /// The phase guide (cos, sin of 2 pi G) of G = column / period.
@@ -325,12 +342,7 @@ fn fine_weight_is_refused_out_of_range_or_without_the_guided_loss() {
 fn phase_density_finds_the_pores_ring_phase() {
     let n = 256;
     let period = 16.0;
-    let mut growth = Image2::filled(n, n, 1, 0.0);
-    for r in 0..n {
-        for c in 0..n {
-            growth.pixel_mut(r, c)[0] = c as f32 / period;
-        }
-    }
+    let growth = growth_across_columns(n, period);
     let curve = |shift: f32| {
         let mut d = PhaseDensity::new(8);
         d.add(&ring_porous(n, period, 0.25, shift, 4), &growth)
@@ -344,6 +356,30 @@ fn phase_density_finds_the_pores_ring_phase() {
     assert!(curve_correlation(&early, &curve(0.0)) > 0.99);
     assert!(curve_correlation(&early, &curve(0.5)) < 0.0);
     assert_eq!(curve_correlation(&early, &[0.2; 8]), 0.0);
+}
+
+#[test]
+fn phase_slope_tells_faint_pore_bands_from_strong_ones() {
+    let n = 256;
+    let period = 16.0;
+    let growth = growth_across_columns(n, period);
+    let curve = |latewood: f32, seed: u64| {
+        let mut d = PhaseDensity::new(8);
+        d.add(&porous(n, period, 0.25, 0.0, latewood, seed), &growth)
+            .unwrap();
+        d.curve()
+    };
+    let reference = curve(0.0, 4);
+    // Another texture with the same bands: slope near 1.
+    let same = curve_slope(&curve(0.0, 5), &reference);
+    assert!((same - 1.0).abs() < 0.1, "{same}");
+    // Pores also in the latewood: the same shape (correlation near 1), fainter bands.
+    let faint = curve(0.15, 5);
+    assert!(curve_correlation(&faint, &reference) > 0.95);
+    let slope = curve_slope(&faint, &reference);
+    assert!(slope > 0.3 && slope < 0.8, "{slope}");
+    assert_eq!(curve_slope(&[0.1; 8], &reference), 0.0);
+    assert_eq!(curve_slope(&reference, &[0.1; 8]), 0.0);
 }
 
 /// The six photos of a sample folder.

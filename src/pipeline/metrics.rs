@@ -22,7 +22,7 @@ use crate::frame::{Face, Plane};
 use crate::image2::Image2;
 use crate::io::load_rgb;
 use crate::loss::LossConfig;
-use crate::metrics::phase_density::{PhaseDensity, curve_correlation};
+use crate::metrics::phase_density::{PhaseDensity, curve_correlation, curve_slope};
 use crate::metrics::{Comparer, METRIC_NAMES};
 use crate::report::{MetricsTable, SHEET_ROWS, TRUTH_MARK, row_plane};
 use crate::slice::slice_plane;
@@ -123,7 +123,7 @@ const PHASE_BINS: usize = 10;
 
 /// Pore density by ring phase (`phase.csv`): the curve of the sample's photos (all its faces
 /// pooled), and for every sheet row the curve of each texture with its correlation to the
-/// photos' curve; `reference` is the sheet's reference column (photos of the faces, true
+/// photos' curve and its slope on it (`curve_slope`: how strong its pore bands are); `reference` is the sheet's reference column (photos of the faces, true
 /// cuts of a synthetic sample, in `SHEET_ROWS` order). The ring phase everywhere is the
 /// fitted field's.
 pub(crate) fn phase_table(
@@ -146,6 +146,7 @@ pub(crate) fn phase_table(
         "method".to_string(),
         "image".to_string(),
         "corr".to_string(),
+        "slope".to_string(),
     ];
     header.extend((0..PHASE_BINS).map(|b| format!("bin{b}")));
     let row = |method: &str, image: &str, curve: &[f32]| {
@@ -153,6 +154,7 @@ pub(crate) fn phase_table(
             method.to_string(),
             image.to_string(),
             curve_correlation(curve, &photo_curve).to_string(),
+            curve_slope(curve, &photo_curve).to_string(),
         ];
         r.extend(curve.iter().map(|v| v.to_string()));
         r
