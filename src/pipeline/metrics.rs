@@ -123,9 +123,9 @@ const PHASE_BINS: usize = 10;
 
 /// Pore density by ring phase (`phase.csv`): the curve of the sample's photos (all its faces
 /// pooled), and for every sheet row the curve of each texture with its correlation to the
-/// photos' curve and its slope on it (`curve_slope`: how strong its pore bands are); `reference` is the sheet's reference column (photos of the faces, true
-/// cuts of a synthetic sample, in `SHEET_ROWS` order). The ring phase everywhere is the
-/// fitted field's.
+/// photos' curve and its slope on it (`curve_slope`: how strong its pore bands are);
+/// `reference` is the sheet's reference column (photos of the faces, true cuts of a
+/// synthetic sample, in `SHEET_ROWS` order). The ring phase everywhere is the fitted field's.
 pub(crate) fn phase_table(
     reference: &[Option<Image2>],
     fit: &FieldConfig,
