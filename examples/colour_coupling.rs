@@ -17,8 +17,8 @@ use std::path::{Path, PathBuf};
 
 use xylem::Image2;
 use xylem::frame::Face;
-use xylem::frame::edges::pearson;
 use xylem::io::load_rgb;
+use xylem::series::pearson;
 
 const LUMA: [f32; 3] = [0.2126, 0.7152, 0.0722];
 

@@ -89,6 +89,7 @@
 //! - [`config`]: shared config loading and range checks.
 //! - [`sample`]: sample folders in the Mokume layout (photos, ring images, knot markers).
 //! - [`rng`]: seeded, hash-based randomness (same seed, same output).
+//! - [`series`]: correlation and slope of two series (edge profiles, ring images, curves).
 //! - [`device`]: choosing burn's CPU device (flex or ndarray) at run time.
 //! - [`loss`]: the VGG-free style loss (fixed-filter features, sliced Wasserstein, Gram,
 //!   moments, colour) that the NCA trains with.
@@ -129,6 +130,7 @@ pub mod rings;
 pub mod rng;
 pub mod run_folder;
 pub mod sample;
+pub mod series;
 pub mod slice;
 pub(crate) mod symmetric_eigen;
 pub mod texture;

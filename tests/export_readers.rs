@@ -8,8 +8,8 @@ mod common;
 use glam::Vec3;
 use xylem::Volume;
 use xylem::export::{Format, SceneSize, Values, export, export_scene};
-use xylem::frame::edges::pearson;
 use xylem::render::{RenderConfig, Shape, render};
+use xylem::series::pearson;
 use xylem::texture::SolidTexture;
 
 /// Colour that encodes the voxel index, so a swapped or flipped axis shows: (i/(nx-1),

@@ -7,8 +7,8 @@ use super::contours::ContourSet;
 use super::iso_loss::contour_medians;
 use crate::field::PithAxis;
 use crate::frame::CM_PER_UNIT;
-use crate::frame::edges::pearson;
 use crate::image2::Image2;
+use crate::series::pearson;
 use crate::texture::SolidTexture;
 
 /// Errors of a fitted pith axis against the true one: the distance (cm) between the two axes'
@@ -61,29 +61,8 @@ pub fn image_correlation(a: &Image2, b: &Image2, border: usize) -> f32 {
     pearson(&xs, &ys)
 }
 
-/// The best [`image_correlation`] over shifts of `b` by up to `shift` pixels in rows and
-/// columns (the overlap only, leaving out `border` pixels), which forgives a ring placed a
-/// pixel or two off, as DESIGN section 8's ring alignment does.
-pub fn shifted_correlation(a: &Image2, b: &Image2, border: usize, shift: usize) -> f32 {
-    let n = a.width as isize;
-    let s = shift as isize;
-    let lo = border as isize + s;
-    let hi = n - border as isize - s;
-    let mut best = f32::NEG_INFINITY;
-    for dr in -s..=s {
-        for dc in -s..=s {
-            let (mut xs, mut ys) = (Vec::new(), Vec::new());
-            for r in lo..hi {
-                for c in lo..hi {
-                    xs.push(a.get(r as usize, c as usize, 0));
-                    ys.push(b.get((r + dr) as usize, (c + dc) as usize, 0));
-                }
-            }
-            best = best.max(pearson(&xs, &ys));
-        }
-    }
-    best
-}
+/// The best [`image_correlation`] over shifts of up to a few pixels (the ring metric's).
+pub use crate::metrics::ring::shifted_correlation;
 
 /// How well a fitted field predicts a known one: the correlation of their ring images I(G)
 /// at `size` px, as [mean over the six faces, cut1, cut2] (the hidden validation cuts).

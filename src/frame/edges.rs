@@ -11,6 +11,7 @@ use glam::Vec3;
 
 use super::face::{Face, HALF};
 use crate::image2::Image2;
+use crate::series::pearson;
 
 /// A re-indexing of every face image applied before the face table, used to compare the
 /// DESIGN table with its transposed and flipped variants.
@@ -93,21 +94,6 @@ fn edge_profile(
             sum / 3.0
         })
         .collect()
-}
-
-/// Pearson correlation of two equally long series (0 when either is constant).
-pub fn pearson(x: &[f32], y: &[f32]) -> f32 {
-    let n = x.len() as f64;
-    let mx = x.iter().map(|&v| v as f64).sum::<f64>() / n;
-    let my = y.iter().map(|&v| v as f64).sum::<f64>() / n;
-    let (mut sxy, mut sxx, mut syy) = (0.0, 0.0, 0.0);
-    for (&a, &b) in x.iter().zip(y) {
-        let (da, db) = (a as f64 - mx, b as f64 - my);
-        sxy += da * db;
-        sxx += da * da;
-        syy += db * db;
-    }
-    (sxy / (sxx * syy).sqrt().max(1e-12)) as f32
 }
 
 /// Correlation of the two sides of each of the 12 cube edges (in [`cube_edges`] order) for

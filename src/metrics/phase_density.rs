@@ -70,50 +70,12 @@ impl PhaseDensity {
     }
 }
 
-/// Pearson correlation of two curves of the same length (0 if either is flat).
-pub fn curve_correlation(a: &[f32], b: &[f32]) -> f32 {
-    match centred_sums(a, b) {
-        Some(s) if s.aa > 1e-20 && s.bb > 1e-20 => (s.ab / (s.aa * s.bb).sqrt()) as f32,
-        _ => 0.0,
-    }
-}
+/// Pearson correlation of two pore-density curves (0 if either is flat).
+pub use crate::series::pearson as curve_correlation;
 
 /// Least-squares slope of curve `a` on the `reference` curve (0 if the reference is flat).
 /// The correlation says whether a texture's pores sit at the right ring phases; the slope
 /// says how strongly: 1 when its pore density rises and falls over the ring as much as the
 /// reference's, under 1 when it also scatters pores where the reference's ring is clean
 /// (faint pore bands), over 1 when its bands are starker.
-pub fn curve_slope(a: &[f32], reference: &[f32]) -> f32 {
-    match centred_sums(a, reference) {
-        Some(s) if s.bb > 1e-20 => (s.ab / s.bb) as f32,
-        _ => 0.0,
-    }
-}
-
-/// Sums of the centred products of two curves over their common length.
-struct CentredSums {
-    ab: f64,
-    aa: f64,
-    bb: f64,
-}
-
-fn centred_sums(a: &[f32], b: &[f32]) -> Option<CentredSums> {
-    let n = a.len().min(b.len());
-    if n == 0 {
-        return None;
-    }
-    let mean = |v: &[f32]| v[..n].iter().map(|&x| x as f64).sum::<f64>() / n as f64;
-    let (ma, mb) = (mean(a), mean(b));
-    let mut s = CentredSums {
-        ab: 0.0,
-        aa: 0.0,
-        bb: 0.0,
-    };
-    for i in 0..n {
-        let (da, db) = (a[i] as f64 - ma, b[i] as f64 - mb);
-        s.ab += da * db;
-        s.aa += da * da;
-        s.bb += db * db;
-    }
-    Some(s)
-}
+pub use crate::series::slope as curve_slope;

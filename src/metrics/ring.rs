@@ -8,6 +8,7 @@
 
 use crate::image_filter::gaussian_blur;
 use crate::image2::Image2;
+use crate::series::pearson;
 
 /// Band-pass and shift settings at 256 px (scaled with the image width).
 #[derive(Clone, Copy, Debug)]
@@ -51,37 +52,33 @@ pub fn ring_ncc(reference: &Image2, candidate: &Image2, settings: &RingSettings)
     let b = band_pass(candidate, settings);
     let s = ((settings.max_shift * reference.width as f32 / 256.0).round() as usize)
         .min(reference.width.min(reference.height).saturating_sub(2) / 2);
+    shifted_correlation(&a, &b, 0, s)
+}
+
+/// The best Pearson correlation of two equally sized images' first channels over shifts of `b`
+/// by up to `shift` pixels in rows and columns, on `a`'s interior `border + shift` pixels in
+/// from every edge (so every shifted `b` pixel exists); forgives a ring placed a pixel or two
+/// off, as DESIGN section 8's ring alignment does.
+pub fn shifted_correlation(a: &Image2, b: &Image2, border: usize, shift: usize) -> f32 {
+    let (w, h) = (a.width, a.height);
+    let m = border + shift;
+    let s = shift as isize;
+    let (mut xs, mut ys) = (Vec::new(), Vec::new());
     let mut best = f32::NEG_INFINITY;
-    for dy in -(s as isize)..=(s as isize) {
-        for dx in -(s as isize)..=(s as isize) {
-            best = best.max(shifted_correlation(&a, &b, s, dx, dy));
+    for dy in -s..=s {
+        for dx in -s..=s {
+            xs.clear();
+            ys.clear();
+            for y in m..h.saturating_sub(m) {
+                let yb = (y as isize + dy) as usize;
+                for x in m..w.saturating_sub(m) {
+                    let xb = (x as isize + dx) as usize;
+                    xs.push(a.get(y, x, 0));
+                    ys.push(b.get(yb, xb, 0));
+                }
+            }
+            best = best.max(pearson(&xs, &ys));
         }
     }
     best
-}
-
-/// Correlation of `a`'s interior (margin `m`) with `b` shifted by (dx, dy).
-fn shifted_correlation(a: &Image2, b: &Image2, m: usize, dx: isize, dy: isize) -> f32 {
-    let (w, h) = (a.width, a.height);
-    let (mut sa, mut sb, mut saa, mut sbb, mut sab, mut n) = (0f64, 0f64, 0f64, 0f64, 0f64, 0f64);
-    for y in m..h - m {
-        let yb = (y as isize + dy) as usize;
-        for x in m..w - m {
-            let xb = (x as isize + dx) as usize;
-            let (va, vb) = (a.data[y * w + x] as f64, b.data[yb * w + xb] as f64);
-            sa += va;
-            sb += vb;
-            saa += va * va;
-            sbb += vb * vb;
-            sab += va * vb;
-            n += 1.0;
-        }
-    }
-    let cov = sab / n - sa / n * sb / n;
-    let va = saa / n - (sa / n).powi(2);
-    let vb = sbb / n - (sb / n).powi(2);
-    if va <= 1e-20 || vb <= 1e-20 {
-        return 0.0;
-    }
-    (cov / (va * vb).sqrt()) as f32
 }
