@@ -8,7 +8,6 @@ use super::iso_loss::contour_medians;
 use crate::field::PithAxis;
 use crate::frame::CM_PER_UNIT;
 use crate::image2::Image2;
-use crate::series::pearson;
 use crate::texture::SolidTexture;
 
 /// Errors of a fitted pith axis against the true one: the distance (cm) between the two axes'
@@ -47,18 +46,9 @@ fn first(field: &dyn SolidTexture, p: Vec3) -> f32 {
 }
 
 /// Pearson correlation of two grey images of the same size, leaving out `border` pixels at
-/// each edge.
+/// each edge: [`shifted_correlation`] without shifts.
 pub fn image_correlation(a: &Image2, b: &Image2, border: usize) -> f32 {
-    let n = a.width;
-    let inner = border..n.saturating_sub(border);
-    let (mut xs, mut ys) = (Vec::new(), Vec::new());
-    for r in inner.clone() {
-        for c in inner.clone() {
-            xs.push(a.get(r, c, 0));
-            ys.push(b.get(r, c, 0));
-        }
-    }
-    pearson(&xs, &ys)
+    shifted_correlation(a, b, border, 0)
 }
 
 /// The best [`image_correlation`] over shifts of up to a few pixels (the ring metric's).
