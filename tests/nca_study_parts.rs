@@ -392,19 +392,25 @@ fn photos(dir: &std::path::Path) -> Vec<Image2> {
     sample.photos.into_iter().flatten().collect()
 }
 
-/// Whether the pore gate takes the grain noise out of the quality model for these photos.
-fn gate_drops(photos: &[Image2]) -> (bool, Option<f32>) {
-    use xylem::nca::train::vessel_gate::leave_out_grain_noise_without_vessels;
+/// Whether the vessel gate takes the grain noise out of the quality model for these photos,
+/// with the guide weights set apart (4 with vessels, 1.5 without): the weight it leaves.
+fn gate_drops(photos: &[Image2]) -> (bool, f32) {
+    use xylem::nca::train::vessel_gate::apply_vessel_gate;
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/nca/quality.toml");
-    let mut model = <xylem::nca::TrainConfig as xylem::config::ConfigFile>::load(&path)
-        .unwrap()
-        .model;
+    let mut config = <xylem::nca::TrainConfig as xylem::config::ConfigFile>::load(&path).unwrap();
+    config.loss.guided.guide_weight = 4.0;
+    config.loss.guided.guide_weight_without_vessels = Some(1.5);
     let refs: Vec<&Image2> = photos.iter().collect();
-    let fraction = leave_out_grain_noise_without_vessels(&mut model, &refs);
-    let kept = model
+    let closed = apply_vessel_gate(&mut config, &refs);
+    let kept = config
+        .model
         .conditioning
         .contains(&xylem::nca::CondChannel::GrainNoise);
-    (!kept, fraction)
+    assert_eq!(closed.is_some(), !kept, "the gate reports what it did");
+    if let Some(closed) = closed {
+        assert_eq!(closed.guide_weight, Some(1.5));
+    }
+    (!kept, config.loss.guided.guide_weight)
 }
 
 #[test]
@@ -422,8 +428,9 @@ fn grain_noise_is_left_out_for_wood_without_vessels() {
             .map(xylem::metrics::vessels::vessel_fraction)
             .collect();
         eprintln!("{preset}: pore fraction per face {fractions:?}");
-        let (dropped, _) = gate_drops(&photos);
+        let (dropped, guide_weight) = gate_drops(&photos);
         assert_eq!(dropped, drops, "{preset}");
+        assert_eq!(guide_weight, if drops { 1.5 } else { 4.0 }, "{preset}");
     }
     // The real cubes: chestnut keeps it, hinoki loses it.
     let Some(mokume) = common::mokume_dir() else {
@@ -436,6 +443,8 @@ fn grain_noise_is_left_out_for_wood_without_vessels() {
             .map(xylem::metrics::vessels::vessel_fraction)
             .collect();
         eprintln!("{cube}: pore fraction per face {fractions:?}");
-        assert_eq!(gate_drops(&photos).0, drops, "{cube}");
+        let (dropped, guide_weight) = gate_drops(&photos);
+        assert_eq!(dropped, drops, "{cube}");
+        assert_eq!(guide_weight, if drops { 1.5 } else { 4.0 }, "{cube}");
     }
 }

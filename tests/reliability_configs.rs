@@ -427,6 +427,20 @@ fn nca_rows() -> Vec<Row> {
             error(&["loss.low_band", "low-band loss weight"]),
         ),
         row(
+            "nca: negative guide weight for wood without vessels",
+            N,
+            set(
+                &quick,
+                "loss.guided.guide_weight_without_vessels",
+                Some("-2.0"),
+            ),
+            error(&[
+                "loss.guided.guide_weight_without_vessels",
+                "= -2",
+                "[0, 100]",
+            ]),
+        ),
+        row(
             "nca: pool of a million",
             N,
             set(&quick, "pool.size", Some("1000000")),

@@ -16,6 +16,14 @@ pub struct GuidedConfig {
     /// Weight of the guide channels (ring phase) in the joint distribution, relative to the
     /// spread of an average feature; 0 compares plain local statistics.
     pub guide_weight: f32,
+    /// The guide's weight instead of `guide_weight` when the training's photos show no
+    /// vessels (the vessel gate, `nca::train::vessel_gate`, took the grain noise out). Why
+    /// two weights: the guide is what places pores at the earlywood phases, and a strong one
+    /// draws the photos' pore bands on ring-porous wood; wood without vessels has no pores
+    /// to place, and there a strong guide only pulls the rule toward ring-locked states
+    /// (DESIGN "NCA study", row gw4v). Unset: `guide_weight` for every wood.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub guide_weight_without_vessels: Option<f32>,
     /// Weight of the pixel-scale energy term (`super::fine_energy`): the patch's
     /// neighbour-difference and checkerboard energies against the window's. 0 (default)
     /// leaves it out and computes nothing for it.
@@ -27,6 +35,7 @@ impl Default for GuidedConfig {
         Self {
             margin: 8,
             guide_weight: 2.0,
+            guide_weight_without_vessels: None,
             fine_weight: 0.0,
         }
     }
@@ -42,6 +51,15 @@ impl GuidedConfig {
             100.0,
             "weight of the guide channels",
         )?;
+        if let Some(weight) = self.guide_weight_without_vessels {
+            check.range(
+                "guide_weight_without_vessels",
+                weight,
+                0.0,
+                100.0,
+                "weight of the guide channels for wood without vessels",
+            )?;
+        }
         check.range(
             "fine_weight",
             self.fine_weight,

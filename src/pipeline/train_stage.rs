@@ -18,7 +18,7 @@ use crate::nca::model_dir::ModelMeta;
 use crate::nca::train::TrainData;
 use crate::nca::train::session::{TrainOptions, run_training, saved_config};
 use crate::nca::train::targets::photo_mean;
-use crate::nca::train::vessel_gate::leave_out_grain_noise_without_vessels;
+use crate::nca::train::vessel_gate::apply_vessel_gate;
 use crate::sample::{Needs, Sample};
 
 /// A fresh training or the continuation of the folder's own.
@@ -98,12 +98,15 @@ pub fn train_into(
     if !resume {
         // A resumed run's train.toml already says whether the gate took the channel out.
         let photos: Vec<&Image2> = sample.photos.iter().flatten().collect();
-        if let Some(f) = leave_out_grain_noise_without_vessels(&mut config.model, &photos) {
+        if let Some(closed) = apply_vessel_gate(&mut config, &photos) {
+            let guide = closed.guide_weight.map_or(String::new(), |w| {
+                format!(" and the ring-phase guide weight {w} (loss.guided.guide_weight_without_vessels)")
+            });
             reporter.note(&format!(
                 "the photos show few vessels ({:.1} % of pixels, below \
                  model.grain_noise.min_vessel_fraction = {:.1} %): training without the \
-                 grain_noise channel (train.toml records the conditioning used)",
-                100.0 * f,
+                 grain_noise channel{guide} (train.toml records the settings used)",
+                100.0 * closed.vessel_fraction,
                 100.0 * config.model.grain_noise.min_vessel_fraction
             ));
         }

@@ -11,7 +11,17 @@
 use crate::image2::Image2;
 use crate::metrics::vessels::vessel_fraction;
 use crate::nca::cond_channel::CondChannel;
-use crate::nca::config::ModelSpec;
+use crate::nca::config::{ModelSpec, TrainConfig};
+
+/// What the vessel gate changed in a training config (`None` from [`apply_vessel_gate`]: nothing).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GateClosed {
+    /// The photos' mean vessel fraction, below `model.grain_noise.min_vessel_fraction`.
+    pub vessel_fraction: f32,
+    /// The guide weight now in force, when `[loss.guided] guide_weight_without_vessels`
+    /// replaced `guide_weight`.
+    pub guide_weight: Option<f32>,
+}
 
 /// The photos' mean vessel fraction (`metrics::vessels`). Measured, mean of six faces:
 /// CN03 7.7 %, H11 1.2 %; synthetic samples at 256 px: chestnut 7.5 %, oak 5.4 %, softwood
@@ -38,4 +48,19 @@ pub fn leave_out_grain_noise_without_vessels(
     }
     model.conditioning.retain(|c| *c != CondChannel::GrainNoise);
     Some(fraction)
+}
+
+/// The whole gate on a training config: without vessels the grain noise is left out (see
+/// [`leave_out_grain_noise_without_vessels`]) and the guided loss takes
+/// `guide_weight_without_vessels` when the config sets it.
+pub fn apply_vessel_gate(config: &mut TrainConfig, photos: &[&Image2]) -> Option<GateClosed> {
+    let vessel_fraction = leave_out_grain_noise_without_vessels(&mut config.model, photos)?;
+    let guided = &mut config.loss.guided;
+    let guide_weight = guided.guide_weight_without_vessels.inspect(|&w| {
+        guided.guide_weight = w;
+    });
+    Some(GateClosed {
+        vessel_fraction,
+        guide_weight,
+    })
 }
