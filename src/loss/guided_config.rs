@@ -21,7 +21,7 @@ pub struct GuidedConfig {
     /// two weights: the guide is what places pores at the earlywood phases, and a strong one
     /// draws the photos' pore bands on ring-porous wood; wood without vessels has no pores
     /// to place, and there a strong guide only pulls the rule toward ring-locked states
-    /// (DESIGN "NCA study", row gw4v). Unset: `guide_weight` for every wood.
+    /// (DESIGN "NCA study", variant gw4v). Unset: `guide_weight` for every wood.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub guide_weight_without_vessels: Option<f32>,
     /// Weight of the pixel-scale energy term (`super::fine_energy`): the patch's
