@@ -96,7 +96,7 @@ pub fn train_into(
         TrainStart::Fresh { fit, .. } => load_fit(fit, photo_mean(&sample))?,
     };
     if !resume {
-        // A resumed run's train.toml already says whether the gate took the channel out.
+        // A resumed run's train.toml already holds what the gate chose (channel, guide weight).
         let photos: Vec<&Image2> = sample.photos.iter().flatten().collect();
         if let Some(closed) = apply_vessel_gate(&mut config, &photos) {
             let guide = closed.guide_weight.map_or(String::new(), |w| {
