@@ -392,32 +392,46 @@ fn photos(dir: &std::path::Path) -> Vec<Image2> {
     sample.photos.into_iter().flatten().collect()
 }
 
-/// Whether the vessel gate takes the grain noise out of the quality model for these photos,
+/// Whether the vessel gate closes on the quality model for these photos (grain noise left out
+/// or turned into fibre lines, as the config says),
 /// with the guide weights set apart (4 with vessels, 1.5 without): the weight it leaves.
-fn gate_drops(photos: &[Image2]) -> (bool, f32) {
+fn gate_closes(photos: &[Image2]) -> (bool, f32) {
     use xylem::nca::train::vessel_gate::apply_vessel_gate;
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/nca/quality.toml");
     let mut config = <xylem::nca::TrainConfig as xylem::config::ConfigFile>::load(&path).unwrap();
     config.loss.guided.guide_weight = 4.0;
     config.loss.guided.guide_weight_without_vessels = Some(1.5);
     let refs: Vec<&Image2> = photos.iter().collect();
+    let shipped = config.model.grain_noise.clone();
     let closed = apply_vessel_gate(&mut config, &refs);
     let kept = config
         .model
         .conditioning
         .contains(&xylem::nca::CondChannel::GrainNoise);
-    assert_eq!(closed.is_some(), !kept, "the gate reports what it did");
-    if let Some(closed) = closed {
-        assert_eq!(closed.guide_weight, Some(1.5));
+    let spec = &config.model.grain_noise;
+    match closed {
+        // The gate reports what it did: the fibre cells or no channel.
+        Some(closed) => {
+            assert_eq!(closed.guide_weight, Some(1.5));
+            assert_eq!(kept, closed.fibre_lines);
+            assert_eq!(closed.fibre_lines, shipped.without_vessels.is_some());
+            if let Some(fibres) = shipped.without_vessels {
+                assert_eq!(
+                    (spec.across_mm, spec.along_mm),
+                    (fibres.across_mm, fibres.along_mm)
+                );
+            }
+        }
+        None => assert!(kept && *spec == shipped),
     }
-    (!kept, config.loss.guided.guide_weight)
+    (closed.is_some(), config.loss.guided.guide_weight)
 }
 
 #[test]
-fn grain_noise_is_left_out_for_wood_without_vessels() {
+fn the_vessel_gate_closes_on_wood_without_vessels() {
     // Synthetic photographed samples at the photos' 256 px: the ring-porous presets keep the
-    // vessel noise, the softwood (no pores) loses it.
-    for (preset, drops) in [("chestnut", false), ("oak", false), ("softwood", true)] {
+    // vessel noise, the gate closes on the softwood (no pores).
+    for (preset, closes_on) in [("chestnut", false), ("oak", false), ("softwood", true)] {
         let dir = common::scratch(&format!("pore-gate-{preset}"));
         let species = xylem::presets::load_species_preset(preset).unwrap();
         let out = xylem::io::OutputDir::prepare(&dir).unwrap();
@@ -428,23 +442,23 @@ fn grain_noise_is_left_out_for_wood_without_vessels() {
             .map(xylem::metrics::vessels::vessel_fraction)
             .collect();
         eprintln!("{preset}: pore fraction per face {fractions:?}");
-        let (dropped, guide_weight) = gate_drops(&photos);
-        assert_eq!(dropped, drops, "{preset}");
-        assert_eq!(guide_weight, if drops { 1.5 } else { 4.0 }, "{preset}");
+        let (closes, guide_weight) = gate_closes(&photos);
+        assert_eq!(closes, closes_on, "{preset}");
+        assert_eq!(guide_weight, if closes_on { 1.5 } else { 4.0 }, "{preset}");
     }
-    // The real cubes: chestnut keeps it, hinoki loses it.
+    // The real cubes: chestnut keeps the vessel noise, the gate closes on hinoki.
     let Some(mokume) = common::mokume_dir() else {
         return;
     };
-    for (cube, drops) in [("CN03", false), ("H11", true)] {
+    for (cube, closes_on) in [("CN03", false), ("H11", true)] {
         let photos = photos(&mokume.join(cube));
         let fractions: Vec<f32> = photos
             .iter()
             .map(xylem::metrics::vessels::vessel_fraction)
             .collect();
         eprintln!("{cube}: pore fraction per face {fractions:?}");
-        let (dropped, guide_weight) = gate_drops(&photos);
-        assert_eq!(dropped, drops, "{cube}");
-        assert_eq!(guide_weight, if drops { 1.5 } else { 4.0 }, "{cube}");
+        let (closes, guide_weight) = gate_closes(&photos);
+        assert_eq!(closes, closes_on, "{cube}");
+        assert_eq!(guide_weight, if closes_on { 1.5 } else { 4.0 }, "{cube}");
     }
 }

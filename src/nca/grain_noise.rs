@@ -52,6 +52,24 @@ pub struct GrainNoiseSpec {
     /// streaks over upright rings). Falls back to straight tubes when the cube's rings have
     /// no mean direction (pith inside the cube).
     pub follow_rings: bool,
+    /// The cells the noise takes instead when the vessel gate closes (`[model.grain_noise.
+    /// without_vessels]`): thin fibre lines, not vessel dashes, on wood whose photos show
+    /// no vessels. `None` (the default): the gate leaves the channel out.
+    pub without_vessels: Option<FibreCells>,
+}
+
+/// Cells of the grain noise on wood without vessels: fibre lines (`[model.grain_noise.
+/// without_vessels]`). Why: hinoki's side faces carry fine lines along the fibres, which a
+/// model without the channel does not draw (H11 A held out: anisotropy .30 against the
+/// photo's .46; with these cells .53 and .45 over two seeds; BENCHMARKS "Fibre noise on
+/// wood without vessels").
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FibreCells {
+    /// Lattice spacing across the fibres in millimetres (a line's width).
+    pub across_mm: f32,
+    /// Lattice spacing along the fibres in millimetres (a line's length).
+    pub along_mm: f32,
 }
 
 impl Default for GrainNoiseSpec {
@@ -63,6 +81,7 @@ impl Default for GrainNoiseSpec {
             along_mm: 1.5,
             min_vessel_fraction: 0.0,
             follow_rings: false,
+            without_vessels: None,
         }
     }
 }
@@ -72,7 +91,26 @@ impl GrainNoiseSpec {
         check.range("across_mm", self.across_mm, 0.01, 100.0, "millimetres")?;
         check.range("along_mm", self.along_mm, 0.01, 100.0, "millimetres")?;
         let share = self.min_vessel_fraction;
-        check.range("min_vessel_fraction", share, 0.0, 1.0, "a share")
+        check.range("min_vessel_fraction", share, 0.0, 1.0, "a share")?;
+        if let Some(fibres) = &self.without_vessels {
+            let check = check.nested("without_vessels");
+            check.range("across_mm", fibres.across_mm, 0.01, 100.0, "millimetres")?;
+            check.range("along_mm", fibres.along_mm, 0.01, 100.0, "millimetres")?;
+        }
+        Ok(())
+    }
+
+    /// The spec for wood without vessels: the fibre cells when `without_vessels` sets
+    /// them (and nothing left to gate), else `None`.
+    pub fn for_wood_without_vessels(&self) -> Option<GrainNoiseSpec> {
+        let fibres = self.without_vessels?;
+        Some(GrainNoiseSpec {
+            across_mm: fibres.across_mm,
+            along_mm: fibres.along_mm,
+            min_vessel_fraction: 0.0,
+            follow_rings: self.follow_rings,
+            without_vessels: None,
+        })
     }
 }
 

@@ -6,7 +6,8 @@
 //! style 1.58 against the base colour's 0.78); the same config without the channel drew no
 //! dashes (style 0.45; BENCHMARKS, "Grain noise on a softwood"). The rule cannot learn to
 //! ignore the channel on side grain alone: the noise that makes dots on end grain makes
-//! dashes on side grain.
+//! dashes on side grain. A config may instead give such wood fibre lines
+//! (`[model.grain_noise.without_vessels]`): the same channel with thin, long cells.
 
 use crate::image2::Image2;
 use crate::metrics::vessels::vessel_fraction;
@@ -21,6 +22,8 @@ pub struct GateClosed {
     /// The guide weight now in force, when `[loss.guided] guide_weight_without_vessels`
     /// replaced `guide_weight`.
     pub guide_weight: Option<f32>,
+    /// The grain noise was kept with the fibre cells of `without_vessels` (else left out).
+    pub fibre_lines: bool,
 }
 
 /// The photos' mean vessel fraction (`metrics::vessels`). Measured, mean of six faces:
@@ -33,12 +36,11 @@ fn photos_vessel_fraction(photos: &[&Image2]) -> f32 {
     if n == 0 { 0.0 } else { (sum / n as f64) as f32 }
 }
 
-/// Takes `grain_noise` out of `model`'s conditioning when the photos' vessel fraction is below
-/// `model.grain_noise.min_vessel_fraction`; returns that fraction when it did.
-pub fn leave_out_grain_noise_without_vessels(
-    model: &mut ModelSpec,
-    photos: &[&Image2],
-) -> Option<f32> {
+/// When the photos' vessel fraction is below `model.grain_noise.min_vessel_fraction`,
+/// replaces the grain noise's cells by its fibre cells (`without_vessels`) or, without those,
+/// takes `grain_noise` out of `model`'s conditioning; returns that fraction and whether the
+/// fibre cells were taken, when the gate closed.
+pub fn gate_grain_noise(model: &mut ModelSpec, photos: &[&Image2]) -> Option<(f32, bool)> {
     if !model.conditioning.contains(&CondChannel::GrainNoise) {
         return None;
     }
@@ -46,15 +48,23 @@ pub fn leave_out_grain_noise_without_vessels(
     if fraction >= model.grain_noise.min_vessel_fraction {
         return None;
     }
-    model.conditioning.retain(|c| *c != CondChannel::GrainNoise);
-    Some(fraction)
+    match model.grain_noise.for_wood_without_vessels() {
+        Some(fibres) => {
+            model.grain_noise = fibres;
+            Some((fraction, true))
+        }
+        None => {
+            model.conditioning.retain(|c| *c != CondChannel::GrainNoise);
+            Some((fraction, false))
+        }
+    }
 }
 
-/// The whole gate on a training config: without vessels the grain noise is left out (see
-/// [`leave_out_grain_noise_without_vessels`]) and the guided loss takes
+/// The whole gate on a training config: without vessels the grain noise draws fibre lines
+/// or is left out (see [`gate_grain_noise`]) and the guided loss takes
 /// `guide_weight_without_vessels` when the config sets it.
 pub fn apply_vessel_gate(config: &mut TrainConfig, photos: &[&Image2]) -> Option<GateClosed> {
-    let vessel_fraction = leave_out_grain_noise_without_vessels(&mut config.model, photos)?;
+    let (vessel_fraction, fibre_lines) = gate_grain_noise(&mut config.model, photos)?;
     let guided = &mut config.loss.guided;
     let guide_weight = guided.guide_weight_without_vessels.inspect(|&w| {
         guided.guide_weight = w;
@@ -62,5 +72,57 @@ pub fn apply_vessel_gate(config: &mut TrainConfig, photos: &[&Image2]) -> Option
     Some(GateClosed {
         vessel_fraction,
         guide_weight,
+        fibre_lines,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::nca::grain_noise::FibreCells;
+
+    /// A model that asks for the grain noise and gates it at 3 % vessels.
+    fn gated_model(without_vessels: Option<FibreCells>) -> ModelSpec {
+        let mut model = ModelSpec::default();
+        if !model.conditioning.contains(&CondChannel::GrainNoise) {
+            model.conditioning.push(CondChannel::GrainNoise);
+        }
+        model.grain_noise.min_vessel_fraction = 0.03;
+        model.grain_noise.without_vessels = without_vessels;
+        model
+    }
+
+    #[test]
+    fn a_plain_photo_closes_the_gate_and_fibre_cells_replace_the_vessel_cells() {
+        // An even grey photo has no vessels at all.
+        let grey = Image2::filled(64, 64, 3, 0.6);
+        let fibres = FibreCells {
+            across_mm: 0.2,
+            along_mm: 6.0,
+        };
+        let mut model = gated_model(Some(fibres));
+        assert_eq!(gate_grain_noise(&mut model, &[&grey]), Some((0.0, true)));
+        assert!(model.conditioning.contains(&CondChannel::GrainNoise));
+        let spec = &model.grain_noise;
+        assert_eq!((spec.across_mm, spec.along_mm), (0.2, 6.0));
+        // What train.toml records needs no gate again: nothing left to switch.
+        assert_eq!(
+            (spec.min_vessel_fraction, spec.without_vessels),
+            (0.0, None)
+        );
+
+        let mut model = gated_model(None);
+        assert_eq!(gate_grain_noise(&mut model, &[&grey]), Some((0.0, false)));
+        assert!(!model.conditioning.contains(&CondChannel::GrainNoise));
+    }
+
+    #[test]
+    fn the_gate_stays_open_when_the_threshold_is_zero() {
+        let grey = Image2::filled(64, 64, 3, 0.6);
+        let mut model = gated_model(None);
+        model.grain_noise.min_vessel_fraction = 0.0;
+        let before = model.clone();
+        assert_eq!(gate_grain_noise(&mut model, &[&grey]), None);
+        assert_eq!(model, before);
+    }
 }
