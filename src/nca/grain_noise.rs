@@ -61,8 +61,10 @@ pub struct GrainNoiseSpec {
 /// Cells of the grain noise on wood without vessels: fibre lines (`[model.grain_noise.
 /// without_vessels]`). Why: hinoki's side faces carry fine lines along the fibres, which a
 /// model without the channel does not draw (H11 A held out: anisotropy .30 against the
-/// photo's .46; with these cells .53 and .45 over two seeds; BENCHMARKS "Fibre noise on
-/// wood without vessels").
+/// photo's .46; with these cells .53 and .45 over two seeds). Off in the shipped configs:
+/// with 0.2 x 6 mm cells the synthetic softwood's 90-step volume ran away (blobs at the
+/// colour bounds) and H11 D and F held out lost bars (BENCHMARKS "Fibre noise on wood
+/// without vessels").
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FibreCells {
