@@ -441,6 +441,19 @@ fn nca_rows() -> Vec<Row> {
             ]),
         ),
         row(
+            "nca: fibre cells that the vessel gate never uses",
+            N,
+            set(
+                &quick,
+                "model.grain_noise.without_vessels",
+                Some("{ across_mm = 0.2, along_mm = 3.0 }"),
+            ),
+            error(&[
+                "model.grain_noise.without_vessels",
+                "min_vessel_fraction = 0",
+            ]),
+        ),
+        row(
             "nca: pool of a million",
             N,
             set(&quick, "pool.size", Some("1000000")),

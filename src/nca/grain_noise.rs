@@ -63,8 +63,9 @@ pub struct GrainNoiseSpec {
 /// model without the channel does not draw (H11 A held out: anisotropy .30 against the
 /// photo's .46; with these cells .53 and .45 over two seeds). Off in the shipped configs:
 /// with 0.2 x 6 mm cells the synthetic softwood's 90-step volume ran away (blobs at the
-/// colour bounds) and H11 D and F held out lost bars (BENCHMARKS "Fibre noise on wood
-/// without vessels").
+/// colour bounds) and H11 D and F held out lost bars; with 0.2 x 3 mm cells the softwood
+/// stayed clean but H11 C and E held out lost their ring orientation bar (24 bars of 36
+/// against 25 without the channel; BENCHMARKS "Fibre noise on wood without vessels").
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FibreCells {
@@ -95,6 +96,14 @@ impl GrainNoiseSpec {
         let share = self.min_vessel_fraction;
         check.range("min_vessel_fraction", share, 0.0, 1.0, "a share")?;
         if let Some(fibres) = &self.without_vessels {
+            // The gate never closes at threshold 0: the table would be read and ignored.
+            if share <= 0.0 {
+                return Err(check.error(
+                    "without_vessels",
+                    "is set but min_vessel_fraction = 0 never closes the vessel gate: \
+                     expected min_vessel_fraction > 0 (e.g. 0.03) or no without_vessels table",
+                ));
+            }
             let check = check.nested("without_vessels");
             check.range("across_mm", fibres.across_mm, 0.01, 100.0, "millimetres")?;
             check.range("along_mm", fibres.along_mm, 0.01, 100.0, "millimetres")?;

@@ -98,8 +98,6 @@ pub fn train_into(
     if !resume {
         // A resumed run's train.toml already holds what the gate chose (channel, guide weight).
         let photos: Vec<&Image2> = sample.photos.iter().flatten().collect();
-        // The fibre cells replace the whole spec, the threshold with it.
-        let min_vessel_fraction = config.model.grain_noise.min_vessel_fraction;
         if let Some(closed) = apply_vessel_gate(&mut config, &photos) {
             let guide = closed.guide_weight.map_or(String::new(), |w| {
                 format!(" and the ring-phase guide weight {w} (loss.guided.guide_weight_without_vessels)")
@@ -115,7 +113,7 @@ pub fn train_into(
                  model.grain_noise.min_vessel_fraction = {:.1} %): training {noise}{guide} \
                  (train.toml records the settings used)",
                 100.0 * closed.vessel_fraction,
-                100.0 * min_vessel_fraction
+                100.0 * closed.min_vessel_fraction
             ));
         }
     }

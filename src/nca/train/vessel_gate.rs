@@ -17,8 +17,11 @@ use crate::nca::config::{ModelSpec, TrainConfig};
 /// What the vessel gate changed in a training config (`None` from [`apply_vessel_gate`]: nothing).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GateClosed {
-    /// The photos' mean vessel fraction, below `model.grain_noise.min_vessel_fraction`.
+    /// The photos' mean vessel fraction, below `min_vessel_fraction`.
     pub vessel_fraction: f32,
+    /// The threshold the fraction fell below (`model.grain_noise.min_vessel_fraction` as the
+    /// config had it: the fibre cells replace the spec, this threshold with it).
+    pub min_vessel_fraction: f32,
     /// The guide weight now in force, when `[loss.guided] guide_weight_without_vessels`
     /// replaced `guide_weight`.
     pub guide_weight: Option<f32>,
@@ -38,41 +41,43 @@ fn photos_vessel_fraction(photos: &[&Image2]) -> f32 {
 
 /// When the photos' vessel fraction is below `model.grain_noise.min_vessel_fraction`,
 /// replaces the grain noise's cells by its fibre cells (`without_vessels`) or, without those,
-/// takes `grain_noise` out of `model`'s conditioning; returns that fraction and whether the
-/// fibre cells were taken, when the gate closed.
-pub fn gate_grain_noise(model: &mut ModelSpec, photos: &[&Image2]) -> Option<(f32, bool)> {
+/// takes `grain_noise` out of `model`'s conditioning; says what it did when the gate closed
+/// (the guide weight is [`apply_vessel_gate`]'s part, `None` here).
+pub fn gate_grain_noise(model: &mut ModelSpec, photos: &[&Image2]) -> Option<GateClosed> {
     if !model.conditioning.contains(&CondChannel::GrainNoise) {
         return None;
     }
-    let fraction = photos_vessel_fraction(photos);
-    if fraction >= model.grain_noise.min_vessel_fraction {
+    let vessel_fraction = photos_vessel_fraction(photos);
+    let min_vessel_fraction = model.grain_noise.min_vessel_fraction;
+    if vessel_fraction >= min_vessel_fraction {
         return None;
     }
-    match model.grain_noise.for_wood_without_vessels() {
-        Some(fibres) => {
-            model.grain_noise = fibres;
-            Some((fraction, true))
-        }
-        None => {
-            model.conditioning.retain(|c| *c != CondChannel::GrainNoise);
-            Some((fraction, false))
-        }
+    let fibres = model.grain_noise.for_wood_without_vessels();
+    let fibre_lines = fibres.is_some();
+    match fibres {
+        Some(fibres) => model.grain_noise = fibres,
+        None => model.conditioning.retain(|c| *c != CondChannel::GrainNoise),
     }
+    Some(GateClosed {
+        vessel_fraction,
+        min_vessel_fraction,
+        guide_weight: None,
+        fibre_lines,
+    })
 }
 
 /// The whole gate on a training config: without vessels the grain noise draws fibre lines
 /// or is left out (see [`gate_grain_noise`]) and the guided loss takes
 /// `guide_weight_without_vessels` when the config sets it.
 pub fn apply_vessel_gate(config: &mut TrainConfig, photos: &[&Image2]) -> Option<GateClosed> {
-    let (vessel_fraction, fibre_lines) = gate_grain_noise(&mut config.model, photos)?;
+    let closed = gate_grain_noise(&mut config.model, photos)?;
     let guided = &mut config.loss.guided;
     let guide_weight = guided.guide_weight_without_vessels.inspect(|&w| {
         guided.guide_weight = w;
     });
     Some(GateClosed {
-        vessel_fraction,
         guide_weight,
-        fibre_lines,
+        ..closed
     })
 }
 
@@ -101,7 +106,12 @@ mod tests {
             along_mm: 6.0,
         };
         let mut model = gated_model(Some(fibres));
-        assert_eq!(gate_grain_noise(&mut model, &[&grey]), Some((0.0, true)));
+        let closed = gate_grain_noise(&mut model, &[&grey]).expect("no vessels: gate closes");
+        assert_eq!(
+            (closed.vessel_fraction, closed.min_vessel_fraction),
+            (0.0, 0.03)
+        );
+        assert!(closed.fibre_lines);
         assert!(model.conditioning.contains(&CondChannel::GrainNoise));
         let spec = &model.grain_noise;
         assert_eq!((spec.across_mm, spec.along_mm), (0.2, 6.0));
@@ -112,7 +122,8 @@ mod tests {
         );
 
         let mut model = gated_model(None);
-        assert_eq!(gate_grain_noise(&mut model, &[&grey]), Some((0.0, false)));
+        let closed = gate_grain_noise(&mut model, &[&grey]).expect("no vessels: gate closes");
+        assert!(!closed.fibre_lines);
         assert!(!model.conditioning.contains(&CondChannel::GrainNoise));
     }
 
