@@ -3,6 +3,7 @@
 //!     XYLEM_MOKUME_DIR=../shared/data/mokume cargo run --release --example bench_rings -- real [FIT_CONFIG]
 //!     cargo run --release --example bench_rings -- synthetic [FIT_CONFIG]
 //!     XYLEM_MOKUME_DIR=../shared/data/mokume cargo run --release --example bench_rings -- lofo [FIT_CONFIG]
+//!     XYLEM_MOKUME_DIR=../shared/data/mokume cargo run --release --example bench_rings -- per-face [FIT_CONFIG]
 //!
 //! - `real`: CN03 and H11. Per face, the predicted ring image against the authors' U-Net
 //!   image (`rings::agreement`: correlation best within 2 px, precision and recall of ring
@@ -17,6 +18,11 @@
 //! - `lofo`: leave-one-face-out on CN03 and H11 for both ring sources: fit on five faces,
 //!   on the held-out face the correlation (best within 3 px) of the predicted I(G) with the
 //!   given U-Net image and the iso error (mm) of that face's given contours.
+//! - `per-face`: CN03 and H11, per face and for all six, the iso error (mm) of the given and
+//!   of the predicted contours under the fits from given and from predicted rings.
+//!
+//! Every mode judges with the default `[contours]` settings, whatever FIT_CONFIG sets there:
+//! a config under test changes the fits, never the contours they are judged by.
 
 #[path = "common/fit_bench.rs"]
 mod fit_bench;
@@ -50,7 +56,8 @@ fn main() {
         "real" => real(&cfg),
         "synthetic" => synthetic(&cfg),
         "lofo" => lofo(&cfg),
-        other => panic!("unknown mode {other:?}; expected real, synthetic or lofo"),
+        "per-face" => per_face(&cfg),
+        other => panic!("unknown mode {other:?}; expected real, synthetic, lofo or per-face"),
     }
 }
 
@@ -118,7 +125,7 @@ fn real(cfg: &FitConfig) {
     for name in ["CN03", "H11"] {
         let dir = mokume_dir().join(name);
         let given = load(&dir, &Face::ALL, RingSource::Given, cfg);
-        let set = contour_set(&given, &Face::ALL, cfg);
+        let set = contour_set(&given, &Face::ALL, &judging(cfg));
         for source in SOURCES {
             let sample = load(&dir, &Face::ALL, source, cfg);
             let started = Instant::now();
@@ -163,7 +170,7 @@ fn synthetic(cfg: &FitConfig) {
         let exact = contour_set(
             &load(&dir, &Face::ALL, RingSource::Given, cfg),
             &Face::ALL,
-            cfg,
+            &judging(cfg),
         );
         for source in SOURCES {
             let sample = load(&dir, &Face::ALL, source, cfg);
@@ -202,7 +209,7 @@ fn lofo(cfg: &FitConfig) {
                 let target = given.ring_image(held).expect("given");
                 let predicted = slice_face(&RingImage(&field), held, target.width);
                 let corr = shifted_correlation(&predicted, target, cfg.contours.border, SHIFT);
-                let error = iso_error_mm(&field, &contour_set(&given, &[held], cfg));
+                let error = iso_error_mm(&field, &contour_set(&given, &[held], &judging(cfg)));
                 println!("| {name} | {source} | {held} | {corr:.2} | {error:.3} |");
                 corrs.push(corr);
                 errors.push(error);
@@ -213,5 +220,46 @@ fn lofo(cfg: &FitConfig) {
                 mean(errors)
             );
         }
+    }
+}
+
+/// Per face of CN03 and H11, the iso error (mm) of the given and of the predicted contours
+/// under the fits from given and from predicted rings: which faces the gap between the two
+/// fits comes from, and whether the predicted lines are as good iso-lines of the given fit
+/// as the given ones.
+fn per_face(cfg: &FitConfig) {
+    table_header(
+        "sample | face | given contours, given fit | given contours, predicted fit | predicted contours, given fit | predicted contours, predicted fit | contours given / predicted",
+    );
+    let judge = judging(cfg);
+    for name in ["CN03", "H11"] {
+        let dir = mokume_dir().join(name);
+        let given = load(&dir, &Face::ALL, RingSource::Given, cfg);
+        let predicted = load(&dir, &Face::ALL, RingSource::Predict, cfg);
+        let from_given = GrowthField::from_config(&fit(&given, cfg).field);
+        let from_predicted = GrowthField::from_config(&fit(&predicted, cfg).field);
+        let rows = Face::ALL.iter().map(|&f| (f.to_string(), vec![f]));
+        for (label, faces) in rows.chain(std::iter::once(("all".to_string(), Face::ALL.to_vec()))) {
+            let g = contour_set(&given, &faces, &judge);
+            let p = contour_set(&predicted, &faces, &judge);
+            println!(
+                "| {name} | {label} | {:.3} | {:.3} | {:.3} | {:.3} | {} / {} |",
+                iso_error_mm(&from_given, &g),
+                iso_error_mm(&from_predicted, &g),
+                iso_error_mm(&from_given, &p),
+                iso_error_mm(&from_predicted, &p),
+                g.len(),
+                p.len()
+            );
+        }
+    }
+}
+
+/// The contour settings every mode judges with: the default ones whatever `cfg` under test
+/// says, so that a fit config that changes `[contours]` changes the fits, not the yardstick.
+fn judging(cfg: &FitConfig) -> FitConfig {
+    FitConfig {
+        contours: FitConfig::default().contours,
+        ..cfg.clone()
     }
 }
