@@ -4,12 +4,14 @@
 //! energy term and speckle metric (dashes vs a stipple of them) and the pore density by
 //! ring phase.
 
-use burn::tensor::Device;
+use burn::tensor::{Device, Tensor};
 
 mod common;
 use xylem::Image2;
 use xylem::frame::Face;
-use xylem::loss::{GuidedConfig, GuidedLoss, GuidedPatch, LossConfig, image_to_tensor};
+use xylem::loss::{
+    GuidedConfig, GuidedLoss, GuidedPatch, GuidedTerms, LossConfig, image_to_tensor,
+};
 use xylem::metrics::anisotropy::pore_anisotropy;
 use xylem::metrics::phase_density::{PhaseDensity, curve_correlation, curve_slope};
 use xylem::metrics::speckle::speckle;
@@ -270,48 +272,100 @@ fn speckle_tells_dashes_from_a_stipple_of_them() {
     assert!(stipple > smooth + 0.5, "dashes {smooth}, stipple {stipple}");
 }
 
+/// The guided loss's terms, as scalars (term of interest, total), of a 24 px patch of
+/// `generated` at (20, 20) against the 64 px `photo` with rings every 8 columns; `pick` names
+/// the term.
+fn patch_terms(
+    cfg: &GuidedConfig,
+    photo: &Image2,
+    generated: &Image2,
+    pick: fn(&GuidedTerms) -> Tensor<1>,
+) -> (f32, f32) {
+    let device = Device::flex();
+    let loss = GuidedLoss::new(&small_style(), cfg, &device);
+    let target = loss.target(photo, &guide(64, 8.0)).unwrap();
+    let p = GuidedPatch {
+        image: image_to_tensor(&generated.crop(20, 20, 24, 24).unwrap(), &device),
+        target: 0,
+        origin: [20, 20],
+        guide: None,
+    };
+    let terms = loss.terms(&[p], &[target], 0).unwrap();
+    (
+        pick(&terms).into_scalar::<f32>(),
+        terms.total.into_scalar::<f32>(),
+    )
+}
+
 #[test]
 fn the_fine_term_tells_dashes_from_a_stipple_of_them() {
-    let device = Device::flex();
-    let fine_loss = |weight: f32| {
-        let cfg = GuidedConfig {
-            fine_weight: weight,
-            ..GuidedConfig::default()
-        };
-        GuidedLoss::new(&small_style(), &cfg, &device)
+    let weighted = |fine_weight: f32| GuidedConfig {
+        fine_weight,
+        ..GuidedConfig::default()
     };
     let photo = marks(9, 1).crop(0, 0, 64, 64).unwrap();
-    let fine = |loss: &GuidedLoss, generated: &Image2| {
-        let target = loss.target(&photo, &guide(64, 8.0)).unwrap();
-        let p = GuidedPatch {
-            image: image_to_tensor(&generated.crop(20, 20, 24, 24).unwrap(), &device),
-            target: 0,
-            origin: [20, 20],
-            guide: None,
-        };
-        let terms = loss.terms(&[p], &[target], 0).unwrap();
-        (
-            terms.fine.into_scalar::<f32>(),
-            terms.total.into_scalar::<f32>(),
-        )
+    let fine = |cfg: &GuidedConfig, generated: &Image2| {
+        patch_terms(cfg, &photo, generated, |t| t.fine.clone())
     };
     let other = marks(9, 2).crop(0, 0, 64, 64).unwrap();
-    let on = fine_loss(1.0);
+    let on = weighted(1.0);
     let ((dashes, _), (stipple, _)) = (fine(&on, &other), fine(&on, &stippled(&other)));
     assert!(
         stipple > 4.0 * dashes.max(0.05),
         "fine term: dashes {dashes}, stipple {stipple}"
     );
     // Off by default: nothing added to the total.
-    let off = fine_loss(0.0);
-    let (zero, total_off) = fine(&off, &stippled(&other));
+    let (zero, total_off) = fine(&weighted(0.0), &stippled(&other));
     let (_, total_on) = fine(&on, &stippled(&other));
     assert_eq!(zero, 0.0);
     assert!((total_on - total_off - stipple).abs() < 1e-3 * total_on.max(1.0));
 }
 
+/// `photo` with its pixels shuffled over the whole image: the same colours, and no ring
+/// profile left (G = column / period, so the shuffle mixes every ring phase).
+fn without_ring_profile(photo: &Image2, seed: u64) -> Image2 {
+    let mut out = photo.clone();
+    let mut rng = Rng::new(seed);
+    let w = photo.width;
+    for i in (1..w * photo.height).rev() {
+        let j = rng.below(i + 1);
+        let (a, b) = (
+            out.pixel(i / w, i % w).to_vec(),
+            out.pixel(j / w, j % w).to_vec(),
+        );
+        out.pixel_mut(i / w, i % w).copy_from_slice(&b);
+        out.pixel_mut(j / w, j % w).copy_from_slice(&a);
+    }
+    out
+}
+
 #[test]
-fn fine_weight_is_refused_out_of_range_or_without_the_guided_loss() {
+fn the_profile_term_sees_a_ring_profile_lost_and_adds_nothing_when_off() {
+    let weighted = |profile_weight: f32| GuidedConfig {
+        profile_weight,
+        ..GuidedConfig::default()
+    };
+    // Pores in the first 30 % of each ring: the earlywood is darker on average.
+    let photo = ring_porous(64, 8.0, 0.3, 0.0, 1);
+    let profile = |cfg: &GuidedConfig, generated: &Image2| {
+        patch_terms(cfg, &photo, generated, |t| t.profile.clone())
+    };
+    let same_wood = ring_porous(64, 8.0, 0.3, 0.0, 2);
+    let flat = without_ring_profile(&same_wood, 3);
+    let on = weighted(1.0);
+    let ((kept, _), (lost, _)) = (profile(&on, &same_wood), profile(&on, &flat));
+    assert!(
+        lost > 4.0 * kept.max(0.01),
+        "profile term: ring profile kept {kept}, lost {lost}"
+    );
+    let (zero, total_off) = profile(&weighted(0.0), &flat);
+    let (_, total_on) = profile(&on, &flat);
+    assert_eq!(zero, 0.0);
+    assert!((total_on - total_off - lost).abs() < 1e-3 * total_on.max(1.0));
+}
+
+#[test]
+fn loss_term_weights_are_refused_out_of_range_or_without_the_guided_loss() {
     use xylem::config::ConfigFile;
     let config = |loss: &str| {
         format!(
@@ -320,21 +374,27 @@ fn fine_weight_is_refused_out_of_range_or_without_the_guided_loss() {
         )
     };
     let parse = |text: &str| {
-        xylem::nca::TrainConfig::parse(text, std::path::Path::new("fine.toml"))
-            .map(|c| c.loss.guided.fine_weight)
+        xylem::nca::TrainConfig::parse(text, std::path::Path::new("weights.toml"))
+            .map(|c| (c.loss.guided.fine_weight, c.loss.guided.profile_weight))
             .map_err(|e| e.to_string())
     };
-    let guided = |weight: &str| {
-        format!("[loss]\nface = \"guided\"\n[loss.guided]\nfine_weight = {weight}\n")
-    };
-    assert_eq!(parse(&config(&guided("0.05"))), Ok(0.05));
-    let moments = "[loss]\nface = \"moments\"\n[loss.guided]\nfine_weight = 0.05\n";
-    for bad in [guided("-1.0"), moments.to_string()] {
-        let err = parse(&config(&bad)).unwrap_err();
-        assert!(
-            err.contains("fine.toml") && err.contains("loss.guided.fine_weight"),
-            "{err}"
-        );
+    for key in ["fine_weight", "profile_weight"] {
+        let guided =
+            |weight: &str| format!("[loss]\nface = \"guided\"\n[loss.guided]\n{key} = {weight}\n");
+        let expected = if key == "fine_weight" {
+            (0.05, 0.0)
+        } else {
+            (0.0, 0.05)
+        };
+        assert_eq!(parse(&config(&guided("0.05"))), Ok(expected));
+        let moments = format!("[loss]\nface = \"moments\"\n[loss.guided]\n{key} = 0.05\n");
+        for bad in [guided("-1.0"), moments] {
+            let err = parse(&config(&bad)).unwrap_err();
+            assert!(
+                err.contains("weights.toml") && err.contains(&format!("loss.guided.{key}")),
+                "{err}"
+            );
+        }
     }
 }
 

@@ -39,6 +39,7 @@ use super::fine_energy::{fine_distance, fine_energies, log_energies};
 use super::guided_config::GuidedConfig;
 use super::image_tensor::{image_to_tensor, planar_tensor, tensor_values};
 use super::pyramid::pyramid;
+use super::ring_profile::{ProfileTarget, phase_bins};
 use super::sliced_wasserstein::{random_projections, resample_sorted};
 use crate::error::{Result, XylemError};
 use crate::image2::Image2;
@@ -83,7 +84,10 @@ pub struct GuidedTerms {
     pub colour: Tensor<1>,
     /// The pixel-scale energy term (0 unless `[loss.guided] fine_weight` > 0).
     pub fine: Tensor<1>,
-    /// `swd weight x swd + colour weight x colour + fine_weight x fine`, `[1]`.
+    /// The ring-profile term (0 unless `[loss.guided] profile_weight` > 0).
+    pub profile: Tensor<1>,
+    /// `swd weight x swd + colour weight x colour + fine_weight x fine + profile_weight x
+    /// profile`, `[1]`.
     pub total: Tensor<1>,
 }
 
@@ -126,6 +130,8 @@ struct WindowStats {
     colour: ColourStats,
     /// The window's pixel-scale log energies `[3]`, when the fine term is on.
     fine: Option<Tensor<1>>,
+    /// The window's mean colour per ring phase, when the profile term is on.
+    profile: Option<ProfileTarget>,
 }
 
 struct LayerStats {
@@ -217,6 +223,7 @@ impl GuidedLoss {
         let mut swd = Vec::with_capacity(patches.len());
         let mut colour = Vec::with_capacity(patches.len());
         let mut fine = Vec::with_capacity(patches.len());
+        let mut profile = Vec::with_capacity(patches.len());
         let mut windows: HashMap<(usize, [usize; 2], [usize; 2]), WindowStats> = HashMap::new();
         for (i, p) in patches.iter().enumerate() {
             let target = targets.get(p.target).ok_or_else(|| {
@@ -230,10 +237,11 @@ impl GuidedLoss {
             let stats = windows
                 .entry((p.target, p.origin, [h, w]))
                 .or_insert_with(|| self.window_stats(target, p.origin, [h, w], call));
-            let [s, c, e] = self.patch_terms(p, target, stats);
+            let [s, c, e, r] = self.patch_terms(p, target, stats);
             swd.push(s);
             colour.push(c);
             fine.push(e);
+            profile.push(r);
         }
         let mean = |v: Vec<Tensor<1>>| {
             let n = v.len().max(1) as f32;
@@ -242,15 +250,18 @@ impl GuidedLoss {
                 .map(|s| s.div_scalar(n))
                 .unwrap_or_else(|| Tensor::zeros([1], &self.device))
         };
-        let (swd, colour, fine) = (mean(swd), mean(colour), mean(fine));
+        let (swd, colour) = (mean(swd), mean(colour));
+        let (fine, profile) = (mean(fine), mean(profile));
         let w = &self.style.weights;
         let total = swd.clone().mul_scalar(w.swd)
             + colour.clone().mul_scalar(w.colour)
-            + fine.clone().mul_scalar(self.guided.fine_weight);
+            + fine.clone().mul_scalar(self.guided.fine_weight)
+            + profile.clone().mul_scalar(self.guided.profile_weight);
         Ok(GuidedTerms {
             swd,
             colour,
             fine,
+            profile,
             total,
         })
     }
@@ -291,6 +302,7 @@ impl GuidedLoss {
         let (rows, cols) = (window(origin[0], h, th, m), window(origin[1], w, tw, m));
         let image = crop(&target.image, rows, cols);
         let guide = crop(&target.guide, rows, cols);
+        let guide_window = guide.clone();
         let features = self.features.layers(image.clone());
         let guides = self.guide_layers(guide, rows.1, cols.1);
         let layers = features
@@ -301,20 +313,26 @@ impl GuidedLoss {
             .collect();
         let fine =
             (self.guided.fine_weight > 0.0).then(|| log_energies(fine_energies(image.clone())));
+        let colour = self.colour_stats(flat(image.clone()));
+        let profile = (self.guided.profile_weight > 0.0).then(|| {
+            let scaled = self.colour_axes.clone().matmul(flat(image)) * colour.scale.clone();
+            ProfileTarget::new(scaled, &phase_bins(flat(guide_window)))
+        });
         WindowStats {
             layers,
-            colour: self.colour_stats(flat(image)),
+            colour,
             fine,
+            profile,
         }
     }
 
-    /// A patch's two terms against its window's statistics.
+    /// A patch's terms against its window's statistics: swd, colour, fine, profile.
     fn patch_terms(
         &self,
         p: &GuidedPatch,
         target: &GuidedTarget,
         stats: &WindowStats,
-    ) -> [Tensor<1>; 3] {
+    ) -> [Tensor<1>; 4] {
         let [_, h, w] = p.image.dims();
         let [r0, c0] = p.origin;
         let guide = p
@@ -322,6 +340,14 @@ impl GuidedLoss {
             .clone()
             .unwrap_or_else(|| crop(&target.guide, (r0, h), (c0, w)));
         let features = self.features.layers(p.image.clone());
+        let profile = match &stats.profile {
+            Some(target) => {
+                let scaled = self.colour_axes.clone().matmul(flat(p.image.clone()))
+                    * stats.colour.scale.clone();
+                target.distance(scaled, &phase_bins(flat(guide.clone())))
+            }
+            None => Tensor::zeros([1], &self.device),
+        };
         let guides = self.guide_layers(guide, h, w);
         let mut layers = Vec::new();
         for ((f, g), t) in features.into_iter().zip(guides).zip(&stats.layers) {
@@ -342,7 +368,7 @@ impl GuidedLoss {
         let colour = stats
             .colour
             .distance(flat(p.image.clone()), &self.colour_axes);
-        [swd, colour, fine]
+        [swd, colour, fine, profile]
     }
 
     /// The guide channels of each feature layer of an `h` x `w` image: the guide image's own

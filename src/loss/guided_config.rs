@@ -28,6 +28,10 @@ pub struct GuidedConfig {
     /// neighbour-difference and checkerboard energies against the window's. 0 (default)
     /// leaves it out and computes nothing for it.
     pub fine_weight: f32,
+    /// Weight of the ring-profile term (`super::ring_profile`): the patch's mean colour in
+    /// each of 8 ring-phase bins against the window's. 0 (default) leaves it out and computes
+    /// nothing for it.
+    pub profile_weight: f32,
 }
 
 impl Default for GuidedConfig {
@@ -37,6 +41,7 @@ impl Default for GuidedConfig {
             guide_weight: 2.0,
             guide_weight_without_vessels: None,
             fine_weight: 0.0,
+            profile_weight: 0.0,
         }
     }
 }
@@ -66,6 +71,13 @@ impl GuidedConfig {
             0.0,
             100.0,
             "weight of the pixel-scale energy term",
+        )?;
+        check.range(
+            "profile_weight",
+            self.profile_weight,
+            0.0,
+            100.0,
+            "weight of the ring-profile term",
         )
     }
 }

@@ -36,13 +36,14 @@ pub(crate) mod guided_config;
 pub(crate) mod image_tensor;
 pub mod moments;
 pub mod pyramid;
+pub(crate) mod ring_profile;
 pub mod sliced_wasserstein;
 pub mod style;
 pub mod texture2d;
 
 pub use config::{LossConfig, Nonlinearity};
 pub use guided::GuidedTarget;
-pub use guided::{GuidedLoss, GuidedPatch};
+pub use guided::{GuidedLoss, GuidedPatch, GuidedTerms};
 pub use guided_config::GuidedConfig;
 pub use image_tensor::{image_to_tensor, tensor_to_image};
 pub use style::{LossTerms, StyleLoss, StyleTargets};

@@ -593,6 +593,16 @@ impl ConfigFile for TrainConfig {
                 self.loss.guided.fine_weight
             ),
         )?;
+        self.needs_guided_loss(
+            &l.nested("guided"),
+            "profile_weight",
+            self.loss.guided.profile_weight > 0.0,
+            format!(
+                "= {}: the ring-profile term is part of the guided loss \
+                 (face = \"guided\"); use 0 with another face loss",
+                self.loss.guided.profile_weight
+            ),
+        )?;
         let m = check.nested("memory");
         m.count(
             "segment_steps",
