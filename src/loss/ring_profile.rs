@@ -102,18 +102,12 @@ impl ProfileTarget {
             }
         }
         let average = Tensor::<2>::from_data(TensorData::new(average, [n, BINS]), &device);
-        let mut target = self.means.clone();
-        let mut mask = vec![0.0f32; a * BINS];
-        for axis in 0..a {
-            for b in 0..BINS {
-                if used[b] {
-                    mask[axis * BINS + b] = 1.0;
-                } else {
-                    target[axis * BINS + b] = 0.0;
-                }
-            }
-        }
-        let target = Tensor::<2>::from_data(TensorData::new(target, [a, BINS]), &device);
+        // The mask alone leaves the unused bins out: their means are 0, their targets any.
+        let mask: Vec<f32> = (0..a * BINS)
+            .map(|i| if used[i % BINS] { 1.0 } else { 0.0 })
+            .collect();
+        let target =
+            Tensor::<2>::from_data(TensorData::new(self.means.clone(), [a, BINS]), &device);
         let mask = Tensor::<2>::from_data(TensorData::new(mask, [a, BINS]), &device);
         let means = scaled.matmul(average); // [A, BINS], 0 in unused bins
         ((means - target) * mask)
