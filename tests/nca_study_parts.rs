@@ -10,7 +10,7 @@ mod common;
 use xylem::Image2;
 use xylem::frame::Face;
 use xylem::loss::{
-    GuidedConfig, GuidedLoss, GuidedPatch, GuidedTerms, LossConfig, image_to_tensor,
+    GuidedConfig, GuidedLoss, GuidedPatch, GuidedTerms, LossConfig, ProfileAxes, image_to_tensor,
 };
 use xylem::metrics::anisotropy::pore_anisotropy;
 use xylem::metrics::phase_density::{PhaseDensity, curve_correlation, curve_slope};
@@ -362,6 +362,87 @@ fn the_profile_term_sees_a_ring_profile_lost_and_adds_nothing_when_off() {
     let (_, total_on) = profile(&on, &flat);
     assert_eq!(zero, 0.0);
     assert!((total_on - total_off - lost).abs() < 1e-3 * total_on.max(1.0));
+}
+
+/// `img` with a uniform cast along a direction of no luminance (Rec. 709 weights): the
+/// lightness of every pixel is kept, its chroma moved.
+fn chroma_cast(img: &Image2, amount: f32) -> Image2 {
+    let cast = [0.7152f32, -0.2126, 0.0];
+    let norm = cast.iter().map(|v| v * v).sum::<f32>().sqrt();
+    let mut out = img.clone();
+    for r in 0..img.height {
+        for c in 0..img.width {
+            for (v, d) in out.pixel_mut(r, c).iter_mut().zip(cast) {
+                *v += amount * d / norm;
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn the_lightness_profile_sees_the_rings_and_not_a_chroma_cast() {
+    let cfg = |profile_axes| GuidedConfig {
+        profile_weight: 1.0,
+        profile_axes,
+        ..GuidedConfig::default()
+    };
+    let photo = ring_porous(64, 8.0, 0.3, 0.0, 1);
+    let profile = |axes, generated: &Image2| {
+        patch_terms(&cfg(axes), &photo, generated, |t| t.profile.clone()).0
+    };
+    let same_wood = ring_porous(64, 8.0, 0.3, 0.0, 2);
+    let (flat, cast) = (
+        without_ring_profile(&same_wood, 3),
+        chroma_cast(&same_wood, 0.03),
+    );
+    let kept = profile(ProfileAxes::Lightness, &same_wood);
+    let lost = profile(ProfileAxes::Lightness, &flat);
+    assert!(
+        lost > 4.0 * kept.max(0.01),
+        "lightness: kept {kept}, lost {lost}"
+    );
+    let cast_lightness = profile(ProfileAxes::Lightness, &cast);
+    assert!(
+        (cast_lightness - kept).abs() < 1e-3 * kept.max(1e-3),
+        "cast seen on lightness: {cast_lightness} against {kept}"
+    );
+    let (kept_all, cast_all) = (
+        profile(ProfileAxes::All, &same_wood),
+        profile(ProfileAxes::All, &cast),
+    );
+    assert!(
+        cast_all > 4.0 * kept_all.max(0.01),
+        "all axes: kept {kept_all}, cast {cast_all}"
+    );
+}
+
+#[test]
+fn the_profile_axes_are_refused_while_the_profile_term_is_off() {
+    use xylem::config::ConfigFile;
+    let config = |guided: &str| {
+        format!(
+            "seed = 1\n[volume]\nsize = 20\ncrop = 6\n[schedule]\niterations = 3\n\
+             steps = [2, 3]\n[pool]\nsize = 0\n[loss]\nface = \"guided\"\n[loss.guided]\n{guided}"
+        )
+    };
+    let parse = |text: &str| {
+        xylem::nca::TrainConfig::parse(text, std::path::Path::new("axes.toml"))
+            .map(|c| c.loss.guided.profile_axes)
+            .map_err(|e| e.to_string())
+    };
+    let on = config("profile_weight = 1.0\nprofile_axes = \"lightness\"\n");
+    assert_eq!(parse(&on), Ok(ProfileAxes::Lightness));
+    let off = parse(&config("profile_axes = \"lightness\"\n")).unwrap_err();
+    assert!(
+        off.contains("axes.toml") && off.contains("loss.guided.profile_axes"),
+        "{off}"
+    );
+    let unknown = parse(&config("profile_weight = 1.0\nprofile_axes = \"hue\"\n")).unwrap_err();
+    assert!(
+        unknown.contains("axes.toml") && unknown.contains("profile_axes"),
+        "{unknown}"
+    );
 }
 
 #[test]

@@ -33,6 +33,9 @@ pub fn colour_axes(device: &Device, joint: bool) -> Tensor<2> {
     Tensor::from_data(TensorData::new(data, [axes, 3]), device)
 }
 
+/// The row of the luminance axis in [`colour_axes`] (with or without `joint`).
+pub(crate) const LUMINANCE_AXIS: usize = 3;
+
 /// R, G, B, luminance and the two opponent axes, row by row.
 fn six_axes() -> Vec<f32> {
     let s2 = std::f32::consts::FRAC_1_SQRT_2;

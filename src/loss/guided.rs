@@ -31,12 +31,12 @@ use std::collections::HashMap;
 
 use burn::tensor::{Device, Tensor};
 
-use super::colour::colour_axes;
+use super::colour::{LUMINANCE_AXIS, colour_axes};
 use super::config::LossConfig;
 use super::distance::{SCALE_EPS, relative_mse};
 use super::features::FeatureExtractor;
 use super::fine_energy::{fine_distance, fine_energies, log_energies};
-use super::guided_config::GuidedConfig;
+use super::guided_config::{GuidedConfig, ProfileAxes};
 use super::image_tensor::{image_to_tensor, planar_tensor, tensor_values};
 use super::pyramid::pyramid;
 use super::ring_profile::{ProfileTarget, phase_bins};
@@ -315,7 +315,7 @@ impl GuidedLoss {
             (self.guided.fine_weight > 0.0).then(|| log_energies(fine_energies(image.clone())));
         let colour = self.colour_stats(flat(image.clone()));
         let profile = (self.guided.profile_weight > 0.0).then(|| {
-            let scaled = self.colour_axes.clone().matmul(flat(image)) * colour.scale.clone();
+            let scaled = self.profile_projection(flat(image), &colour);
             ProfileTarget::new(scaled, &phase_bins(flat(guide_window)))
         });
         WindowStats {
@@ -323,6 +323,16 @@ impl GuidedLoss {
             colour,
             fine,
             profile,
+        }
+    }
+
+    /// Pixels `[3, N]` on the ring-profile term's axes, each scaled by the window's spread
+    /// along it: `[A, N]`, or `[1, N]` on luminance alone.
+    fn profile_projection(&self, pixels: Tensor<2>, window: &ColourStats) -> Tensor<2> {
+        let scaled = self.colour_axes.clone().matmul(pixels) * window.scale.clone();
+        match self.guided.profile_axes {
+            ProfileAxes::All => scaled,
+            ProfileAxes::Lightness => scaled.narrow(0, LUMINANCE_AXIS, 1),
         }
     }
 
@@ -342,8 +352,7 @@ impl GuidedLoss {
         let features = self.features.layers(p.image.clone());
         let profile = match &stats.profile {
             Some(target) => {
-                let scaled = self.colour_axes.clone().matmul(flat(p.image.clone()))
-                    * stats.colour.scale.clone();
+                let scaled = self.profile_projection(flat(p.image.clone()), &stats.colour);
                 target.distance(scaled, &phase_bins(flat(guide.clone())))
             }
             None => Tensor::zeros([1], &self.device),

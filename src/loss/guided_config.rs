@@ -32,6 +32,26 @@ pub struct GuidedConfig {
     /// each of 8 ring-phase bins against the window's. 0 (default) leaves it out and computes
     /// nothing for it.
     pub profile_weight: f32,
+    /// Which colour axes the ring-profile term compares (`all`, the default, or
+    /// `lightness`).
+    pub profile_axes: ProfileAxes,
+}
+
+/// The colour axes of the ring-profile term.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ProfileAxes {
+    /// The colour term's axes (R, G, B, luminance, two opponent axes), each scaled by the
+    /// window's spread along it.
+    #[default]
+    All,
+    /// Luminance alone. Why offer it: each axis is scaled by the window's own spread, and
+    /// wood varies little along the opponent axes, so there a small per-phase chroma
+    /// difference costs as much as a large lightness one; a rule whose residual moves along
+    /// one colour axis (`[model] colour_axes = 1`) may be unable to follow such a chroma
+    /// profile and trade texture for it (measured: BENCHMARKS "The ring-profile term on
+    /// lightness alone").
+    Lightness,
 }
 
 impl Default for GuidedConfig {
@@ -42,6 +62,7 @@ impl Default for GuidedConfig {
             guide_weight_without_vessels: None,
             fine_weight: 0.0,
             profile_weight: 0.0,
+            profile_axes: ProfileAxes::All,
         }
     }
 }
@@ -78,6 +99,14 @@ impl GuidedConfig {
             0.0,
             100.0,
             "weight of the ring-profile term",
-        )
+        )?;
+        if self.profile_axes != ProfileAxes::All && self.profile_weight == 0.0 {
+            return Err(check.error(
+                "profile_axes",
+                "chooses the ring-profile term's axes, which is off (profile_weight = 0); \
+                 set profile_weight > 0 or leave profile_axes out",
+            ));
+        }
+        Ok(())
     }
 }

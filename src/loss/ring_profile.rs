@@ -18,15 +18,14 @@
 use burn::tensor::{Tensor, TensorData};
 
 use super::image_tensor::tensor_values;
+use super::phase_bins::{PHASE_BINS as BINS, averaging_matrix, bin_counts, bin_of_turns};
 
-/// Phase bins over one ring (as the low-band term's ring-phase reference uses).
-pub(crate) const BINS: usize = 8;
 /// Fewer pixels than this in a bin (patch or window) and the bin is left out.
 const MIN_PIXELS: usize = 8;
 
-/// The phase bin (0..BINS) of every pixel of a guide `[G, N]` whose first two channels are
+/// The phase bin of every pixel of a guide `[G, N]` whose first two channels are
 /// (cos, sin) of 2 pi G.
-pub(crate) fn phase_bins(guide: Tensor<2>) -> Vec<usize> {
+pub(crate) fn phase_bins(guide: Tensor<2>) -> Vec<u8> {
     let [g, n] = guide.dims();
     let values = tensor_values(guide.narrow(0, 0, g.min(2))).unwrap_or_default();
     if g < 2 || values.len() < 2 * n {
@@ -35,20 +34,8 @@ pub(crate) fn phase_bins(guide: Tensor<2>) -> Vec<usize> {
     let (cos, sin) = values.split_at(n);
     cos.iter()
         .zip(sin)
-        .map(|(&c, &s)| {
-            let turn = s.atan2(c) / std::f32::consts::TAU; // (-1/2, 1/2]
-            ((turn.rem_euclid(1.0) * BINS as f32) as usize).min(BINS - 1)
-        })
+        .map(|(&c, &s)| bin_of_turns(s.atan2(c) / std::f32::consts::TAU))
         .collect()
-}
-
-/// Pixels per bin.
-fn counts(bins: &[usize]) -> [usize; BINS] {
-    let mut n = [0; BINS];
-    for &b in bins {
-        n[b] += 1;
-    }
-    n
 }
 
 /// The window's mean scaled colour per axis and bin.
@@ -60,15 +47,15 @@ pub(crate) struct ProfileTarget {
 
 impl ProfileTarget {
     /// From the window's scaled colour projections `[A, M]` and its pixels' bins.
-    pub(crate) fn new(scaled: Tensor<2>, bins: &[usize]) -> Self {
+    pub(crate) fn new(scaled: Tensor<2>, bins: &[u8]) -> Self {
         let [a, m] = scaled.dims();
         let values = tensor_values(scaled).unwrap_or_default();
-        let counts = counts(bins);
+        let counts = bin_counts(bins);
         let mut means = vec![0.0; a * BINS];
         if values.len() == a * m {
             for axis in 0..a {
                 for (&v, &b) in values[axis * m..(axis + 1) * m].iter().zip(bins) {
-                    means[axis * BINS + b] += v;
+                    means[axis * BINS + b as usize] += v;
                 }
             }
             for axis in 0..a {
@@ -83,10 +70,10 @@ impl ProfileTarget {
     /// Mean squared difference, over the axes and the bins both sides fill, of a patch's
     /// per-bin means (scaled colour projections `[A, N]`, bins of its pixels) to the window's;
     /// 0 when no bin is shared.
-    pub(crate) fn distance(&self, scaled: Tensor<2>, bins: &[usize]) -> Tensor<1> {
-        let [a, n] = scaled.dims();
+    pub(crate) fn distance(&self, scaled: Tensor<2>, bins: &[u8]) -> Tensor<1> {
+        let [a, _] = scaled.dims();
         let device = scaled.device();
-        let patch = counts(bins);
+        let patch = bin_counts(bins);
         let used: Vec<bool> = (0..BINS)
             .map(|b| patch[b] >= MIN_PIXELS && self.counts[b] >= MIN_PIXELS)
             .collect();
@@ -94,14 +81,7 @@ impl ProfileTarget {
         if shared == 0 {
             return Tensor::zeros([1], &device);
         }
-        // Averaging matrix [N, BINS]: 1 / count in the pixel's bin's column, for used bins.
-        let mut average = vec![0.0f32; n * BINS];
-        for (i, &b) in bins.iter().enumerate() {
-            if used[b] {
-                average[i * BINS + b] = 1.0 / patch[b] as f32;
-            }
-        }
-        let average = Tensor::<2>::from_data(TensorData::new(average, [n, BINS]), &device);
+        let average = averaging_matrix(bins, |b| used[b], &device); // [N, BINS]
         // The mask alone leaves the unused bins out: their means are 0, their targets any.
         let mask: Vec<f32> = (0..a * BINS)
             .map(|i| if used[i % BINS] { 1.0 } else { 0.0 })
@@ -172,7 +152,7 @@ mod tests {
         let window_values: Vec<f32> = window_bins.iter().map(|&b| b as f32).collect();
         let window = Tensor::<2>::from_data(TensorData::new(window_values, [1, 64]), &device());
         let target = ProfileTarget::new(window, &window_bins);
-        let patch_bins = vec![0usize; 16];
+        let patch_bins = vec![0u8; 16];
         let patch = Tensor::<2>::from_data(TensorData::new(vec![0.5; 16], [1, 16]), &device());
         let d = tensor_values(target.distance(patch, &patch_bins)).unwrap()[0];
         assert!((d - 0.25).abs() < 1e-6, "{d}");

@@ -13,12 +13,9 @@
 
 use burn::tensor::{Device, Tensor};
 
+use crate::loss::phase_bins::{PHASE_BINS, averaging_matrix, bin_of_turns};
 use crate::nca::config::LowBandReference;
 use crate::nca::tensors::tensor_from;
-
-/// Ring-phase bins of the `ring_phase` reference: a ring spans 10 to 40 voxels at 256 px,
-/// so 8 bins tell earlywood from latewood and the transition between them.
-pub const PHASE_BINS: usize = 8;
 
 /// The low-band term's settings (`[loss]`).
 #[derive(Clone, Copy, Debug)]
@@ -29,9 +26,7 @@ pub struct LowBand {
 
 /// The ring-phase bin, in [0, PHASE_BINS), of each G value (years; rings at whole years).
 pub fn phase_bins(g: &[f32]) -> Vec<u8> {
-    g.iter()
-        .map(|v| ((v.rem_euclid(1.0) * PHASE_BINS as f32) as usize).min(PHASE_BINS - 1) as u8)
-        .collect()
+    g.iter().copied().map(bin_of_turns).collect()
 }
 
 impl LowBand {
@@ -83,20 +78,13 @@ fn minus_phase_means(residual: Tensor<4>, bins: &[u8]) -> Tensor<4> {
 /// the bin's count `[N, K]` (empty bins stay zero).
 fn bin_matrices(bins: &[u8], device: &Device) -> (Tensor<2>, Tensor<2>) {
     let n = bins.len();
-    let mut counts = [0usize; PHASE_BINS];
-    for &b in bins {
-        counts[b as usize] += 1;
-    }
     let mut one_hot = vec![0.0f32; PHASE_BINS * n];
-    let mut averaging = vec![0.0f32; n * PHASE_BINS];
     for (i, &b) in bins.iter().enumerate() {
-        let b = b as usize;
-        one_hot[b * n + i] = 1.0;
-        averaging[i * PHASE_BINS + b] = 1.0 / counts[b] as f32;
+        one_hot[b as usize * n + i] = 1.0;
     }
     (
         tensor_from(one_hot, [PHASE_BINS, n], device),
-        tensor_from(averaging, [n, PHASE_BINS], device),
+        averaging_matrix(bins, |_| true, device),
     )
 }
 
