@@ -417,20 +417,28 @@ fn the_lightness_profile_sees_the_rings_and_not_a_chroma_cast() {
     );
 }
 
+/// A tiny training config ending with `loss` (its `[loss]` tables).
+fn tiny_train_config(loss: &str) -> String {
+    format!(
+        "seed = 1\n[volume]\nsize = 20\ncrop = 6\n[schedule]\niterations = 3\n\
+         steps = [2, 3]\n[pool]\nsize = 0\n{loss}"
+    )
+}
+
+/// `text` parsed as the training config file `name`, or the error's message.
+fn parse_train(text: &str, name: &str) -> Result<xylem::nca::TrainConfig, String> {
+    use xylem::config::ConfigFile;
+    xylem::nca::TrainConfig::parse(text, std::path::Path::new(name)).map_err(|e| e.to_string())
+}
+
 #[test]
 fn the_profile_axes_are_refused_while_the_profile_term_is_off() {
-    use xylem::config::ConfigFile;
     let config = |guided: &str| {
-        format!(
-            "seed = 1\n[volume]\nsize = 20\ncrop = 6\n[schedule]\niterations = 3\n\
-             steps = [2, 3]\n[pool]\nsize = 0\n[loss]\nface = \"guided\"\n[loss.guided]\n{guided}"
-        )
+        tiny_train_config(&format!(
+            "[loss]\nface = \"guided\"\n[loss.guided]\n{guided}"
+        ))
     };
-    let parse = |text: &str| {
-        xylem::nca::TrainConfig::parse(text, std::path::Path::new("axes.toml"))
-            .map(|c| c.loss.guided.profile_axes)
-            .map_err(|e| e.to_string())
-    };
+    let parse = |text: &str| parse_train(text, "axes.toml").map(|c| c.loss.guided.profile_axes);
     let on = config("profile_weight = 1.0\nprofile_axes = \"lightness\"\n");
     assert_eq!(parse(&on), Ok(ProfileAxes::Lightness));
     let off = parse(&config("profile_axes = \"lightness\"\n")).unwrap_err();
@@ -447,17 +455,10 @@ fn the_profile_axes_are_refused_while_the_profile_term_is_off() {
 
 #[test]
 fn loss_term_weights_are_refused_out_of_range_or_without_the_guided_loss() {
-    use xylem::config::ConfigFile;
-    let config = |loss: &str| {
-        format!(
-            "seed = 1\n[volume]\nsize = 20\ncrop = 6\n[schedule]\niterations = 3\n\
-             steps = [2, 3]\n[pool]\nsize = 0\n{loss}"
-        )
-    };
+    let config = tiny_train_config;
     let parse = |text: &str| {
-        xylem::nca::TrainConfig::parse(text, std::path::Path::new("weights.toml"))
+        parse_train(text, "weights.toml")
             .map(|c| (c.loss.guided.fine_weight, c.loss.guided.profile_weight))
-            .map_err(|e| e.to_string())
     };
     for key in ["fine_weight", "profile_weight"] {
         let guided =
