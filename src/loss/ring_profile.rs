@@ -11,9 +11,10 @@
 //! compared with the photo's own window, asks for the photo's contrast either way.
 //!
 //! Phase bins come from the guide channels (cos, sin of 2 pi G; `nca::train::face_guides`),
-//! colours are projected on the colour term's axes and scaled by the window's spread along
-//! each, so the term is dimensionless like the others. A bin counts only where both the
-//! patch and the window have at least `MIN_PIXELS` pixels in it.
+//! colours are projected on the colour term's axes (or its luminance axis alone,
+//! `profile_axes = "lightness"`) and scaled by the window's spread along each, so the term
+//! is dimensionless like the others. A bin counts only where both the patch and the window
+//! have at least `MIN_PIXELS` pixels in it.
 
 use burn::tensor::{Tensor, TensorData};
 
