@@ -37,6 +37,14 @@ pub struct GrainNoiseSpec {
     pub across_mm: f32,
     /// Lattice spacing along the fibres in millimetres (about a pore dash's length).
     pub along_mm: f32,
+    /// Lattice spacing across the rings in millimetres, when it differs from `across_mm`
+    /// (needs `follow_rings`, the only case where "across the rings" is a direction of the
+    /// noise). Why: on a radial face a ring-porous wood's earlywood vessels merge into one
+    /// bold line per ring; round cells 0.3 mm wide put two or three thin tubes across the
+    /// earlywood band, drawn as several fine dashed lines (BENCHMARKS "Wider cells across
+    /// the rings"). `None` (the default): `across_mm`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub radial_mm: Option<f32>,
     /// Training leaves the channel out when fewer of the training photos' pixels than this
     /// lie in vessels (`metrics::vessels`): wood without vessels (softwoods) gets no vessel
     /// noise to draw (`nca::train::vessel_gate`). 0 (the default) keeps it always;
@@ -82,6 +90,7 @@ impl Default for GrainNoiseSpec {
         Self {
             across_mm: 0.3,
             along_mm: 1.5,
+            radial_mm: None,
             min_vessel_fraction: 0.0,
             follow_rings: false,
             without_vessels: None,
@@ -93,6 +102,16 @@ impl GrainNoiseSpec {
     pub fn validate(&self, check: &Checker) -> Result<()> {
         check.range("across_mm", self.across_mm, 0.01, 100.0, "millimetres")?;
         check.range("along_mm", self.along_mm, 0.01, 100.0, "millimetres")?;
+        if let Some(radial) = self.radial_mm {
+            check.range("radial_mm", radial, 0.01, 100.0, "millimetres")?;
+            if !self.follow_rings {
+                return Err(check.error(
+                    "radial_mm",
+                    "is set but follow_rings = false gives the noise no direction across the \
+                     rings: expected follow_rings = true or no radial_mm",
+                ));
+            }
+        }
         let share = self.min_vessel_fraction;
         check.range("min_vessel_fraction", share, 0.0, 1.0, "a share")?;
         if let Some(fibres) = &self.without_vessels {
@@ -118,6 +137,7 @@ impl GrainNoiseSpec {
         Some(GrainNoiseSpec {
             across_mm: fibres.across_mm,
             along_mm: fibres.along_mm,
+            radial_mm: None,
             min_vessel_fraction: 0.0,
             follow_rings: self.follow_rings,
             without_vessels: None,
@@ -176,9 +196,11 @@ impl NoiseCells {
 }
 
 impl GrainNoiseSpec {
-    /// The vessel tubes' cells: round across the fibres.
+    /// The vessel tubes' cells: round across the fibres unless `radial_mm` widens them
+    /// across the rings.
     fn cells(&self, cell_scale: f32) -> NoiseCells {
-        NoiseCells::from_mm(self.across_mm, self.across_mm, self.along_mm, cell_scale)
+        let radial = self.radial_mm.unwrap_or(self.across_mm);
+        NoiseCells::from_mm(self.across_mm, radial, self.along_mm, cell_scale)
     }
 }
 
@@ -418,6 +440,56 @@ pub(crate) mod tests {
         assert!(
             straight_along > 1.5 * following_along,
             "straight {straight_along}, following {following_along}"
+        );
+    }
+
+    /// `radial_mm` widens the cells across the rings alone: the noise changes less over
+    /// a step across the rings and about as much over a step around the stem.
+    #[test]
+    fn radial_cells_widen_the_tubes_across_the_rings_only() {
+        let normal = Vec3::Z;
+        let rings: Arc<dyn SolidTexture> = Arc::new(PlaneRings {
+            normal,
+            rings_per_unit: 12.0,
+        });
+        let round = GrainNoiseSpec {
+            follow_rings: true,
+            ..GrainNoiseSpec::default()
+        };
+        let wide = GrainNoiseSpec {
+            radial_mm: Some(3.0 * round.across_mm),
+            ..round.clone()
+        };
+        let noise = |spec: &GrainNoiseSpec| {
+            GrainNoise::following_rings(spec, Vec3::Y, rings.clone(), 6, 1.0)
+        };
+        let (round, wide) = (noise(&round), noise(&wide));
+        let step = 0.3 / (CM_PER_UNIT * 10.0);
+        let radial = |n: &GrainNoise| mean_change(n, normal * step);
+        let around = |n: &GrainNoise| mean_change(n, Vec3::X * step);
+        eprintln!(
+            "radial: round {}, wide {}; around: round {}, wide {}",
+            radial(&round),
+            radial(&wide),
+            around(&round),
+            around(&wide)
+        );
+        assert!(radial(&round) > 2.0 * radial(&wide));
+        // other lattice points, the same statistics around the stem
+        assert!((around(&round) / around(&wide) - 1.0).abs() < 0.1);
+    }
+
+    #[test]
+    fn radial_cells_are_refused_without_rings_to_follow() {
+        let spec = GrainNoiseSpec {
+            radial_mm: Some(0.8),
+            ..GrainNoiseSpec::default()
+        };
+        let check = Checker::new(std::path::Path::new("nca.toml")).nested("model.grain_noise");
+        let message = spec.validate(&check).unwrap_err().to_string();
+        assert!(
+            message.contains("nca.toml") && message.contains("model.grain_noise.radial_mm"),
+            "{message}"
         );
     }
 
