@@ -41,8 +41,8 @@ pub struct GrainNoiseSpec {
     /// (needs `follow_rings`, the only case where "across the rings" is a direction of the
     /// noise). Why: on a radial face a ring-porous wood's earlywood vessels merge into one
     /// bold line per ring; round cells 0.3 mm wide put two or three thin tubes across the
-    /// earlywood band, drawn as several fine dashed lines (BENCHMARKS "Wider cells across
-    /// the rings"). `None` (the default): `across_mm`.
+    /// earlywood band, drawn as several fine dashed lines (BENCHMARKS "Longer and wider
+    /// grain-noise cells"). `None` (the default): `across_mm`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub radial_mm: Option<f32>,
     /// Training leaves the channel out when fewer of the training photos' pixels than this
@@ -221,7 +221,14 @@ impl GrainNoise {
         cell_scale: f32,
     ) -> Self {
         let key = mix64(seed ^ GRAIN_STREAM);
-        Self::in_rings(spec.cells(cell_scale), axis, growth, key)
+        let cells = spec.cells(cell_scale);
+        // Straight tubes stay round: `radial_mm` never widens them along an arbitrary
+        // direction.
+        let round = NoiseCells {
+            radial: cells.tangential,
+            ..cells
+        };
+        Self::in_rings(cells, round, axis, growth, key)
     }
 
     /// Noise of lattice `cells` around the unit `axis`, keyed by `key`; across the axis an
@@ -239,14 +246,17 @@ impl GrainNoise {
 
     /// Noise of lattice `cells` whose radial coordinate is G itself and whose other two lie
     /// in the cube's mean ring surface (see [`GrainNoiseSpec::follow_rings`]); as
-    /// [`Self::straight`] when G has no mean direction or the fibres cross the rings.
+    /// [`Self::straight`] with `straight_cells` when G has no mean direction or the fibres
+    /// cross the rings (straight noise has no direction across the rings: its "radial"
+    /// spacing lies along an arbitrary direction across the axis).
     pub(crate) fn in_rings(
         cells: NoiseCells,
+        straight_cells: NoiseCells,
         axis: Vec3,
         growth: Arc<dyn SolidTexture>,
         key: u64,
     ) -> Self {
-        let mut noise = Self::straight(cells, axis, key);
+        let mut noise = Self::straight(straight_cells, axis, key);
         let Some((normal, g_per_unit)) = mean_gradient(growth.as_ref()) else {
             return noise;
         };
@@ -510,5 +520,13 @@ pub(crate) mod tests {
         let straight = GrainNoise::new(&spec, Vec3::Y, 2, 1.0);
         let p = Vec3::new(0.1, -0.2, 0.3);
         assert_eq!(following.value(p), straight.value(p));
+        // nor does `radial_mm` widen the straight tubes along an arbitrary direction
+        let wide = GrainNoiseSpec {
+            radial_mm: Some(0.9),
+            follow_rings: true,
+            ..spec
+        };
+        let wide = GrainNoise::following_rings(&wide, Vec3::Y, Arc::new(Around), 2, 1.0);
+        assert_eq!(wide.value(p), straight.value(p));
     }
 }

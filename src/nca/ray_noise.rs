@@ -82,7 +82,7 @@ impl RayNoiseSpec {
             self.along_mm,
             cell_scale,
         );
-        GrainNoise::in_rings(cells, axis, growth, mix64(seed ^ RAY_STREAM))
+        GrainNoise::in_rings(cells, cells, axis, growth, mix64(seed ^ RAY_STREAM))
     }
 }
 
