@@ -196,11 +196,17 @@ impl NoiseCells {
 }
 
 impl GrainNoiseSpec {
-    /// The vessel tubes' cells: round across the fibres unless `radial_mm` widens them
-    /// across the rings.
+    /// The vessel tubes' cells in the rings: round across the fibres unless `radial_mm`
+    /// widens them across the rings.
     fn cells(&self, cell_scale: f32) -> NoiseCells {
         let radial = self.radial_mm.unwrap_or(self.across_mm);
         NoiseCells::from_mm(self.across_mm, radial, self.along_mm, cell_scale)
+    }
+
+    /// The cells of straight tubes, always round: straight noise has no direction across
+    /// the rings for `radial_mm` to widen.
+    fn straight_cells(&self, cell_scale: f32) -> NoiseCells {
+        NoiseCells::from_mm(self.across_mm, self.across_mm, self.along_mm, cell_scale)
     }
 }
 
@@ -208,7 +214,11 @@ impl GrainNoise {
     /// Noise with cells of `spec` along the unit `axis` (cube frame), realisation `seed`,
     /// the cells multiplied by `cell_scale` (see [`cell_scale`]).
     pub fn new(spec: &GrainNoiseSpec, axis: Vec3, seed: u64, cell_scale: f32) -> Self {
-        Self::straight(spec.cells(cell_scale), axis, mix64(seed ^ GRAIN_STREAM))
+        Self::straight(
+            spec.straight_cells(cell_scale),
+            axis,
+            mix64(seed ^ GRAIN_STREAM),
+        )
     }
 
     /// As [`GrainNoise::new`], with the tubes laid in the iso-surfaces of `growth` (see
@@ -221,14 +231,8 @@ impl GrainNoise {
         cell_scale: f32,
     ) -> Self {
         let key = mix64(seed ^ GRAIN_STREAM);
-        let cells = spec.cells(cell_scale);
-        // Straight tubes stay round: `radial_mm` never widens them along an arbitrary
-        // direction.
-        let round = NoiseCells {
-            radial: cells.tangential,
-            ..cells
-        };
-        Self::in_rings(cells, round, axis, growth, key)
+        let straight = spec.straight_cells(cell_scale);
+        Self::in_rings(spec.cells(cell_scale), straight, axis, growth, key)
     }
 
     /// Noise of lattice `cells` around the unit `axis`, keyed by `key`; across the axis an
