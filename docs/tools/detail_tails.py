@@ -14,6 +14,7 @@ Needs numpy and Pillow.
 """
 import sys
 
+import numpy as np
 from pore_blobs import DETAIL_SIGMA, blur, luminance
 
 PERCENTILES = (1, 5, 25, 50, 75, 95, 99)
@@ -21,8 +22,7 @@ COLOCATION_SIGMAS = (2.0, 4.0)
 
 
 def tails(path):
-    import numpy as np
-
+    """Mean luminance, the detail's spread, its percentiles and the dark-pale correlations."""
     lum = 255.0 * luminance(path)
     detail = lum - blur(lum, DETAIL_SIGMA)
     dark, pale = np.clip(-detail, 0, None), np.clip(detail, 0, None)
