@@ -4,8 +4,8 @@
 
 The detail is what `pore_blobs.py` uses: the luminance (0..255 here) minus its Gaussian blur
 (sigma 8 px). Its low percentiles are the pores; its high ones are the pale flecks and glints.
-BENCHMARKS.md ("Pale flecks") compares the NCA's faces with the photos' by the 95th and
-99th percentiles: a texture whose pale tail lies above the photo's paints light streaks the
+BENCHMARKS.md ("Pale flecks") compares the NCA's faces with the photos' by the 99th
+percentile (and the 1st, the pores): a texture whose pale tail lies above the photo's paints light streaks the
 wood does not have. The last two columns say where the pale detail lies: the correlation
 of the dark part (pores) and the pale part of the detail, each blurred with sigma 2 and 4
 px. On a photo of a radial face it is negative (pores in bands, clean wood between); a
@@ -15,7 +15,7 @@ Needs numpy and Pillow.
 import sys
 
 import numpy as np
-from pore_blobs import DETAIL_SIGMA, blur, luminance
+from pore_blobs import blur, detail_image, luminance
 
 PERCENTILES = (1, 5, 25, 50, 75, 95, 99)
 COLOCATION_SIGMAS = (2.0, 4.0)
@@ -24,7 +24,7 @@ COLOCATION_SIGMAS = (2.0, 4.0)
 def tails(path):
     """Mean luminance, the detail's spread, its percentiles and the dark-pale correlations."""
     lum = 255.0 * luminance(path)
-    detail = lum - blur(lum, DETAIL_SIGMA)
+    detail = 255.0 * detail_image(path)
     dark, pale = np.clip(-detail, 0, None), np.clip(detail, 0, None)
     colocation = [
         np.corrcoef(blur(dark, s).ravel(), blur(pale, s).ravel())[0, 1] for s in COLOCATION_SIGMAS

@@ -55,9 +55,14 @@ def components(mask):
     return found
 
 
-def blob_stats(path):
+def detail_image(path):
+    """The luminance (0..1) minus its Gaussian blur: the pore-scale detail of an image."""
     lum = luminance(path)
-    detail = lum - blur(lum, DETAIL_SIGMA)
+    return lum - blur(lum, DETAIL_SIGMA)
+
+
+def blob_stats(path):
+    detail = detail_image(path)
     dark = detail < -DARK_SD * detail.std()
     blobs = [b for b in components(dark) if len(b) >= MIN_PIXELS]
     lengths, widths, depths = [], [], []
